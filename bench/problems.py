@@ -1,0 +1,513 @@
+"""Benchmark problems for the Panda: MotionBenchMaker scenes and a table-and-shelf world.
+
+Two sources of problems, both as plain data (no planner, no collision checker here):
+
+* The MotionBenchMaker subset in ``shared/data/motion_bench_maker`` (families ``table_pick``,
+  ``box`` and ``bookshelf_small``, 50 problems each). Each problem is a MoveIt
+  ``PlanningScene`` YAML (collision objects made of box/cylinder/sphere primitives) and a
+  ``MotionPlanRequest`` YAML (start joint state, one joint-space goal).
+* ``table_shelf_problems``: a hand-made world (floor, table, open shelf) around a Panda at the
+  origin, with seeded start/goal pairs that a caller-supplied validity callable accepts.
+
+All poses are in the world frame, which is ``panda_link0`` (the Panda base sits at the origin).
+"""
+
+from __future__ import annotations
+
+import os
+import site
+import sysconfig
+import xml.etree.ElementTree as ET
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+ARM_JOINTS: tuple[str, ...] = tuple(f"panda_joint{i}" for i in range(1, 8))
+FINGER_JOINTS: tuple[str, ...] = ("panda_finger_joint1", "panda_finger_joint2")
+OBSTACLE_KINDS: tuple[str, ...] = ("box", "cylinder", "sphere")
+
+# MotionBenchMaker family names as the README spells them -> folder names on disk.
+_FAMILY_DIRS: dict[str, str] = {
+    "bookshelf_small": "bookshelf_small_panda",
+    "box": "box_panda",
+    "table_pick": "table_pick_panda",
+}
+# Frames that coincide with the world in these problems (the Panda base is the world origin).
+_WORLD_FRAMES = ("", "world", "panda_link0")
+_DIMS_PER_KIND = {"box": 3, "cylinder": 2, "sphere": 1}
+# libyaml's safe loader reads the 300 files about ten times faster than the pure-Python one.
+_YamlLoader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
+
+
+@dataclass(frozen=True, eq=False)
+class Obstacle:
+    """One primitive collision shape fixed in the world.
+
+    Attributes:
+        name: Unique name in its problem (the collision object id, ``id/k`` for the k-th
+            primitive of a multi-primitive object).
+        kind: ``"box"``, ``"cylinder"`` or ``"sphere"``.
+        dims: Box full extents ``(x, y, z)`` [m]; cylinder ``(height, radius)`` [m] along its
+            local z axis; sphere ``(radius,)`` [m].
+        pose: 4x4 homogeneous transform of the shape's centre in the world frame.
+    """
+
+    name: str
+    kind: str
+    dims: tuple[float, ...]
+    pose: np.ndarray = field(repr=False)
+
+    def __post_init__(self) -> None:
+        if self.kind not in OBSTACLE_KINDS:
+            raise ValueError(
+                f"obstacle '{self.name}': unknown kind '{self.kind}' (kinds: {', '.join(OBSTACLE_KINDS)})"
+            )
+        dims = tuple(float(d) for d in self.dims)
+        if len(dims) != _DIMS_PER_KIND[self.kind]:
+            raise ValueError(
+                f"obstacle '{self.name}': a {self.kind} needs {_DIMS_PER_KIND[self.kind]} "
+                f"dimensions, got {len(dims)}: {dims}"
+            )
+        if not all(np.isfinite(d) and d > 0.0 for d in dims):
+            raise ValueError(f"obstacle '{self.name}': dimensions must be positive, got {dims}")
+        pose = np.asarray(self.pose, dtype=float)
+        if pose.shape != (4, 4) or not np.all(np.isfinite(pose)):
+            raise ValueError(f"obstacle '{self.name}': pose must be a finite 4x4 matrix")
+        object.__setattr__(self, "dims", dims)
+        object.__setattr__(self, "pose", pose)
+
+
+@dataclass(frozen=True, eq=False)
+class Problem:
+    """A joint-space motion planning problem for the Panda arm.
+
+    Attributes:
+        family: Problem family (``"box"``, ``"table_pick"``, ``"bookshelf_small"``,
+            ``"table_shelf"``).
+        index: 1-based problem number inside its family.
+        obstacles: World collision shapes.
+        start: Joint name -> position [rad or m] for the seven arm joints and the two fingers.
+        goal: Joint name -> position for the seven arm joints (fingers keep their start value).
+        group: Planning group name of the request (``"panda_arm"``).
+        allowed_collisions: Link pairs that the scene's allowed collision matrix allows to
+            touch, each pair sorted, the list sorted; empty when the scene has no matrix.
+    """
+
+    family: str
+    index: int
+    obstacles: tuple[Obstacle, ...]
+    start: dict[str, float]
+    goal: dict[str, float]
+    group: str = "panda_arm"
+    allowed_collisions: tuple[tuple[str, str], ...] = ()
+
+    @property
+    def name(self) -> str:
+        """``family/NNNN``, the name benchmark tables print."""
+        return f"{self.family}/{self.index:04d}"
+
+    def start_arm(self) -> np.ndarray:
+        """The seven arm joint positions of the start state [rad], in joint order."""
+        return np.array([self.start[j] for j in ARM_JOINTS])
+
+    def goal_arm(self) -> np.ndarray:
+        """The seven arm joint positions of the goal [rad], in joint order."""
+        return np.array([self.goal[j] for j in ARM_JOINTS])
+
+
+# ---------------------------------------------------------------------------------------------
+# Paths and the Panda description
+
+
+def default_root() -> Path:
+    """Folder of the MotionBenchMaker problems.
+
+    ``$MTC_MBM_DIR`` if set, else ``shared/data/motion_bench_maker`` next to the repository
+    (this file is ``<repo>/bench/problems.py``).
+    """
+    env = os.environ.get("MTC_MBM_DIR")
+    if env:
+        return Path(env)
+    return (Path(__file__).resolve().parents[2] / "shared" / "data" / "motion_bench_maker").resolve()
+
+
+def example_robot_data_share() -> Path:
+    """The ``share`` folder that holds ``example-robot-data`` (the cmeel wheel's prefix).
+
+    Pinocchio resolves the URDF's ``package://example-robot-data/...`` mesh paths against it.
+
+    Raises:
+        FileNotFoundError: If example-robot-data is not installed in any site-packages.
+    """
+    candidates = [sysconfig.get_paths()["purelib"], sysconfig.get_paths()["platlib"]]
+    candidates += list(site.getsitepackages()) + [site.getusersitepackages()]
+    for base in candidates:
+        share = Path(base) / "cmeel.prefix" / "share"
+        if (share / "example-robot-data" / "robots" / "panda_description").is_dir():
+            return share
+    raise FileNotFoundError(
+        "example-robot-data's Panda not found under <site-packages>/cmeel.prefix/share "
+        f"(searched: {', '.join(dict.fromkeys(candidates))}); install it with "
+        "'pip install example-robot-data'"
+    )
+
+
+def panda_urdf_path() -> Path:
+    """example-robot-data's Panda URDF."""
+    return example_robot_data_share() / "example-robot-data/robots/panda_description/urdf/panda.urdf"
+
+
+def panda_srdf_path() -> Path:
+    """example-robot-data's Panda SRDF (groups and disabled collision pairs)."""
+    return example_robot_data_share() / "example-robot-data/robots/panda_description/srdf/panda.srdf"
+
+
+def panda_joint_limits(urdf: str | os.PathLike | None = None) -> dict[str, tuple[float, float]]:
+    """Position limits [rad or m] of the Panda's arm and finger joints, read from the URDF.
+
+    Args:
+        urdf: URDF file; example-robot-data's Panda when None.
+
+    Returns:
+        Joint name -> (lower, upper) for the seven arm joints and the two finger joints.
+    """
+    root = ET.parse(urdf or panda_urdf_path()).getroot()
+    limits: dict[str, tuple[float, float]] = {}
+    for joint in root.iter("joint"):
+        name = joint.get("name")
+        limit = joint.find("limit")
+        if name in ARM_JOINTS + FINGER_JOINTS and limit is not None:
+            limits[name] = (float(limit.get("lower")), float(limit.get("upper")))
+    missing = [j for j in ARM_JOINTS + FINGER_JOINTS if j not in limits]
+    if missing:
+        raise ValueError(f"URDF {urdf or panda_urdf_path()} has no position limits for {missing}")
+    return limits
+
+
+def limit_violations(problem: Problem, limits: dict[str, tuple[float, float]] | None = None) -> list[str]:
+    """Arm joints of the start or goal state that lie outside the joint limits.
+
+    Such problems are to be reported, not planned. Finger values are not checked: the
+    problems fix the fingers, and planners lock them at a valid opening.
+
+    Args:
+        problem: The problem to check.
+        limits: Joint limits; example-robot-data's Panda when None.
+
+    Returns:
+        One line per violation, e.g. ``"goal panda_joint4=0.0166 outside [-3.0718, -0.0698]"``;
+        empty when both states are inside the limits.
+    """
+    limits = limits or panda_joint_limits()
+    out = []
+    for which, state in (("start", problem.start), ("goal", problem.goal)):
+        for j in ARM_JOINTS:
+            lo, hi = limits[j]
+            if not lo <= state[j] <= hi:
+                out.append(f"{which} {j}={state[j]:.4f} outside [{lo}, {hi}]")
+    return out
+
+
+# ---------------------------------------------------------------------------------------------
+# MotionBenchMaker loader
+
+
+def families(root: str | os.PathLike | None = None) -> list[str]:
+    """Names of the MotionBenchMaker families present under ``root``, sorted."""
+    root = Path(root) if root is not None else default_root()
+    return sorted(name for name, folder in _FAMILY_DIRS.items() if (root / folder).is_dir())
+
+
+def quaternion_to_matrix(xyzw: Sequence[float]) -> np.ndarray:
+    """Rotation matrix of a quaternion given as ``[x, y, z, w]`` (ROS order); normalises it."""
+    q = np.asarray(xyzw, dtype=float)
+    if q.shape != (4,):
+        raise ValueError(f"quaternion must have 4 entries [x, y, z, w], got {list(xyzw)}")
+    norm = np.linalg.norm(q)
+    if not np.isfinite(norm) or norm < 1e-9:
+        raise ValueError(f"quaternion {list(xyzw)} has no valid norm")
+    x, y, z, w = q / norm
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def _pose_matrix(pose: dict, where: str) -> np.ndarray:
+    """4x4 matrix of a ``{position: [x,y,z], orientation: [x,y,z,w]}`` pose from the YAML."""
+    try:
+        position = [float(v) for v in pose["position"]]
+        orientation = pose["orientation"]
+    except (KeyError, TypeError) as exc:
+        raise ValueError(f"{where}: pose needs 'position' and 'orientation', got {pose!r}") from exc
+    # The files store geometry_msgs as flow lists; accept the mapping form too.
+    if isinstance(orientation, dict):
+        orientation = [orientation[k] for k in ("x", "y", "z", "w")]
+    if isinstance(pose["position"], dict):
+        position = [float(pose["position"][k]) for k in ("x", "y", "z")]
+    if len(position) != 3:
+        raise ValueError(f"{where}: position must have 3 entries, got {position}")
+    T = np.eye(4)
+    T[:3, :3] = quaternion_to_matrix(orientation)
+    T[:3, 3] = position
+    return T
+
+
+def _obstacles_from_scene(scene: dict, where: str) -> list[Obstacle]:
+    world = scene.get("world") or {}
+    obstacles: list[Obstacle] = []
+    for obj in world.get("collision_objects") or []:
+        oid = obj.get("id", "")
+        frame = ((obj.get("header") or {}).get("frame_id")) or ""
+        if frame not in _WORLD_FRAMES:
+            raise ValueError(
+                f"{where}: object '{oid}' is given in frame '{frame}' (supported: "
+                f"{', '.join(repr(f) for f in _WORLD_FRAMES)})"
+            )
+        if obj.get("meshes") or obj.get("planes"):
+            raise ValueError(f"{where}: object '{oid}' has meshes or planes (only primitives are supported)")
+        # As in moveit_msgs/CollisionObject: when the object has a pose, primitive poses are relative to it.
+        T_obj = _pose_matrix(obj["pose"], f"{where}: object '{oid}'") if obj.get("pose") else np.eye(4)
+        prims = obj.get("primitives") or []
+        poses = obj.get("primitive_poses") or []
+        if len(prims) != len(poses):
+            raise ValueError(
+                f"{where}: object '{oid}' has {len(prims)} primitives but {len(poses)} primitive_poses"
+            )
+        for k, (prim, pose) in enumerate(zip(prims, poses)):
+            name = oid if len(prims) == 1 else f"{oid}/{k}"
+            kind = prim.get("type")
+            if isinstance(kind, int):
+                # shape_msgs/SolidPrimitive constants: BOX=1, SPHERE=2, CYLINDER=3.
+                kind = {1: "box", 2: "sphere", 3: "cylinder"}.get(kind, str(kind))
+            T = T_obj @ _pose_matrix(pose, f"{where}: object '{name}'")
+            obstacles.append(Obstacle(name, str(kind), tuple(prim.get("dimensions") or ()), T))
+    return obstacles
+
+
+def _allowed_pairs(scene: dict) -> tuple[tuple[str, str], ...]:
+    acm = scene.get("allowed_collision_matrix")
+    if not acm:
+        return ()
+    names = acm.get("entry_names") or []
+    rows = acm.get("entry_values") or []
+    pairs = set()
+    for i, row in enumerate(rows):
+        values = row.get("enabled") if isinstance(row, dict) else row
+        for j, allowed in enumerate(values):
+            if allowed and i != j:
+                pairs.add(tuple(sorted((names[i], names[j]))))
+    return tuple(sorted(pairs))
+
+
+def _read_request(request: dict, where: str) -> tuple[dict[str, float], dict[str, float], str]:
+    js = (request.get("start_state") or {}).get("joint_state") or {}
+    names, positions = js.get("name") or [], js.get("position") or []
+    if len(names) != len(positions):
+        raise ValueError(f"{where}: start_state has {len(names)} names but {len(positions)} positions")
+    start = {n: float(p) for n, p in zip(names, positions)}
+    constraints = request.get("goal_constraints") or []
+    if not constraints or not constraints[0].get("joint_constraints"):
+        raise ValueError(f"{where}: no joint-space goal in goal_constraints[0].joint_constraints")
+    goal = {c["joint_name"]: float(c["position"]) for c in constraints[0]["joint_constraints"]}
+    for which, state in (("start_state", start), ("goal", goal)):
+        missing = [j for j in ARM_JOINTS if j not in state]
+        if missing:
+            raise ValueError(f"{where}: {which} lacks arm joints {missing}")
+    return start, goal, str(request.get("group_name") or "panda_arm")
+
+
+def load_problem(family: str, index: int, root: str | os.PathLike | None = None) -> Problem:
+    """Load one MotionBenchMaker problem (``sceneNNNN.yaml`` + ``requestNNNN.yaml``)."""
+    folder = _family_folder(family, root)
+    scene_file = folder / f"scene{index:04d}.yaml"
+    request_file = folder / f"request{index:04d}.yaml"
+    for f in (scene_file, request_file):
+        if not f.is_file():
+            raise FileNotFoundError(f"problem {family}/{index:04d}: missing {f}")
+    with open(scene_file) as fh:
+        scene = yaml.load(fh, Loader=_YamlLoader)
+    with open(request_file) as fh:
+        request = yaml.load(fh, Loader=_YamlLoader)
+    start, goal, group = _read_request(request, str(request_file))
+    return Problem(
+        family=_short_family(family),
+        index=index,
+        obstacles=tuple(_obstacles_from_scene(scene, str(scene_file))),
+        start=start,
+        goal=goal,
+        group=group,
+        allowed_collisions=_allowed_pairs(scene),
+    )
+
+
+def _short_family(name: str) -> str:
+    if name in _FAMILY_DIRS:
+        return name
+    for short, folder in _FAMILY_DIRS.items():
+        if name == folder:
+            return short
+    raise ValueError(
+        f"unknown MotionBenchMaker family '{name}' (families: {', '.join(sorted(_FAMILY_DIRS))})"
+    )
+
+
+def _family_folder(name: str, root: str | os.PathLike | None) -> Path:
+    root = Path(root) if root is not None else default_root()
+    folder = root / _FAMILY_DIRS[_short_family(name)]
+    if not folder.is_dir():
+        raise FileNotFoundError(
+            f"family '{name}': no folder {folder} (set MTC_MBM_DIR to the motion_bench_maker folder)"
+        )
+    return folder
+
+
+def load_family(name: str, root: str | os.PathLike | None = None) -> list[Problem]:
+    """All problems of one family, by index.
+
+    Args:
+        name: ``"box"``, ``"table_pick"`` or ``"bookshelf_small"`` (the folder names with the
+            ``_panda`` suffix are accepted too).
+        root: The ``motion_bench_maker`` folder; ``default_root()`` when None.
+    """
+    folder = _family_folder(name, root)
+    indices = sorted(int(p.stem[len("request"):]) for p in folder.glob("request[0-9][0-9][0-9][0-9].yaml"))
+    return [load_problem(name, i, root) for i in indices]
+
+
+def load_all(root: str | os.PathLike | None = None) -> dict[str, list[Problem]]:
+    """Every family under ``root``: family name -> its problems."""
+    return {name: load_family(name, root) for name in families(root)}
+
+
+# ---------------------------------------------------------------------------------------------
+# Table-and-shelf world
+
+
+def _box(name: str, size: tuple[float, float, float], center: tuple[float, float, float]) -> Obstacle:
+    T = np.eye(4)
+    T[:3, 3] = center
+    return Obstacle(name, "box", size, T)
+
+
+def table_shelf_world() -> list[Obstacle]:
+    """A floor, a table in front of the Panda and an open shelf on its left (+y).
+
+    The Panda base (``panda_link0``) stands on the floor at the origin; its reach is about
+    0.85 m. The table top (z = 0.20 m) spans x 0.30..0.80, y -0.55..0.25. The shelf stands at
+    y 0.50..0.82, x -0.15..0.45, 0.90 m tall, with boards at z = 0.30 and 0.60 m and its open
+    side facing the robot, so reaching into it needs the arm to thread between boards.
+    """
+    obstacles = [
+        # The floor's top is 1 cm below the base so that link0 does not touch it.
+        _box("floor", (2.0, 2.0, 0.02), (0.0, 0.0, -0.02)),
+        _box("table_top", (0.50, 0.80, 0.04), (0.55, -0.15, 0.18)),
+    ]
+    for k, (x, y) in enumerate([(0.33, -0.52), (0.33, 0.22), (0.77, -0.52), (0.77, 0.22)]):
+        obstacles.append(_box(f"table_leg{k}", (0.04, 0.04, 0.16), (x, y, 0.08)))
+    obstacles += [
+        _box("shelf_side_left", (0.02, 0.30, 0.90), (-0.15, 0.66, 0.45)),
+        _box("shelf_side_right", (0.02, 0.30, 0.90), (0.45, 0.66, 0.45)),
+        _box("shelf_back", (0.62, 0.02, 0.90), (0.15, 0.82, 0.45)),
+        _box("shelf_board_low", (0.58, 0.30, 0.02), (0.15, 0.66, 0.30)),
+        _box("shelf_board_mid", (0.58, 0.30, 0.02), (0.15, 0.66, 0.60)),
+        _box("shelf_board_top", (0.62, 0.32, 0.02), (0.15, 0.66, 0.91)),
+    ]
+    return obstacles
+
+
+def sample_valid_state(
+    is_valid: Callable[[np.ndarray], bool],
+    rng: np.random.Generator,
+    limits: dict[str, tuple[float, float]] | None = None,
+    max_tries: int = 10_000,
+) -> np.ndarray:
+    """Draw arm configurations uniformly inside the joint limits until ``is_valid`` accepts one.
+
+    Args:
+        is_valid: ``is_valid(q7) -> bool`` for a 7-vector of arm joint positions [rad].
+        rng: Random generator (the only source of randomness).
+        limits: Joint limits; example-robot-data's Panda when None.
+        max_tries: Draws before giving up.
+
+    Raises:
+        RuntimeError: If no valid configuration was found in ``max_tries`` draws.
+    """
+    limits = limits or panda_joint_limits()
+    lo = np.array([limits[j][0] for j in ARM_JOINTS])
+    hi = np.array([limits[j][1] for j in ARM_JOINTS])
+    for _ in range(max_tries):
+        q = rng.uniform(lo, hi)
+        if is_valid(q):
+            return q
+    raise RuntimeError(f"no valid arm configuration in {max_tries} uniform draws; is is_valid too strict?")
+
+
+def sample_start_goal_pairs(
+    n: int,
+    is_valid: Callable[[np.ndarray], bool],
+    seed: int = 0,
+    min_distance: float = 1.0,
+    limits: dict[str, tuple[float, float]] | None = None,
+    max_tries: int = 10_000,
+) -> list[tuple[np.ndarray, np.ndarray]]:
+    """``n`` valid (start, goal) arm configurations, reproducible for a seed.
+
+    Args:
+        n: Number of pairs.
+        is_valid: ``is_valid(q7) -> bool`` (e.g. a collision checker of the world).
+        seed: Seed of the random generator.
+        min_distance: Smallest joint-space distance (Euclidean norm [rad]) between start and
+            goal, so that no pair is trivially short.
+        limits: Joint limits; example-robot-data's Panda when None.
+        max_tries: Draws per state before giving up.
+    """
+    if n < 0:
+        raise ValueError(f"n must be >= 0, got {n}")
+    limits = limits or panda_joint_limits()
+    rng = np.random.default_rng(seed)
+    pairs = []
+    for _ in range(n):
+        start = sample_valid_state(is_valid, rng, limits, max_tries)
+        for _ in range(max_tries):
+            goal = sample_valid_state(is_valid, rng, limits, max_tries)
+            if np.linalg.norm(goal - start) >= min_distance:
+                break
+        else:
+            raise RuntimeError(f"no valid goal at least {min_distance} rad from the start in {max_tries} draws")
+        pairs.append((start, goal))
+    return pairs
+
+
+def table_shelf_problems(
+    n: int = 50,
+    seed: int = 0,
+    *,
+    is_valid: Callable[[np.ndarray], bool],
+    finger: float = 0.04,
+    min_distance: float = 1.0,
+) -> list[Problem]:
+    """``n`` problems in ``table_shelf_world()`` with seeded, valid start/goal pairs.
+
+    Args:
+        n: Number of problems.
+        seed: Seed of the start/goal sampler.
+        is_valid: ``is_valid(q7) -> bool``: True when the arm at ``q7`` (fingers at
+            ``finger``) is free of collisions in ``table_shelf_world()``. The benchmark passes
+            mtc's collision checker; ``bench.baseline_pyroboplan.validity_checker`` is another.
+        finger: Opening of each finger joint [m] (fixed, as in the MotionBenchMaker problems).
+        min_distance: Smallest joint-space distance between start and goal [rad].
+    """
+    world = tuple(table_shelf_world())
+    problems = []
+    for k, (qs, qg) in enumerate(sample_start_goal_pairs(n, is_valid, seed, min_distance), start=1):
+        start = {j: float(v) for j, v in zip(ARM_JOINTS, qs)} | {f: finger for f in FINGER_JOINTS}
+        goal = {j: float(v) for j, v in zip(ARM_JOINTS, qg)}
+        problems.append(Problem("table_shelf", k, world, start, goal, "panda_arm", ()))
+    return problems
