@@ -1,0 +1,125 @@
+"""MoveIt's allowed collision matrix (ACM): which pairs of bodies may touch.
+
+An explicit entry for a pair wins; without one, a pair is allowed if the *default entry* of
+either body allows it (MoveIt's ``set_default_entry(name, True)`` means "this body may touch
+anything"). Bodies are links, world objects and attached objects, by name.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable
+
+from mtc import msgs
+
+__all__ = ["AllowedCollisionMatrix"]
+
+
+class AllowedCollisionMatrix:
+    """Allowed collisions between named bodies.
+
+    Every change bumps ``version``, so cached collision set-ups can tell they are stale.
+    """
+
+    __slots__ = ("_entries", "_defaults", "version")
+
+    def __init__(self, allowed_pairs: Iterable[tuple[str, str]] = ()):
+        self._entries: dict[frozenset, bool] = {}
+        self._defaults: dict[str, bool] = {}
+        self.version = 0
+        for a, b in allowed_pairs:
+            if b == "*":
+                self._defaults[a] = True
+            else:
+                self._entries[frozenset((a, b))] = True
+
+    def copy(self) -> AllowedCollisionMatrix:
+        other = AllowedCollisionMatrix()
+        other._entries = dict(self._entries)
+        other._defaults = dict(self._defaults)
+        other.version = self.version
+        return other
+
+    @staticmethod
+    def _names(value, what: str) -> list[str]:
+        if isinstance(value, str):
+            return [value]
+        if isinstance(value, Iterable):
+            names = list(value)
+            if all(isinstance(n, str) for n in names):
+                return names
+        raise TypeError(f"{what} must be a name or a list of names, not {value!r}")
+
+    def set_entry(self, first, second=None, allowed: bool | None = None) -> None:
+        """Allow (True) or forbid (False) collisions between ``first`` and ``second``.
+
+        Each of ``first``/``second`` is a name or a list of names (all pairs are set).
+        ``set_entry(name, allowed)`` sets every existing entry of ``name``.
+        """
+        if allowed is None and isinstance(second, bool):
+            second, allowed = None, second
+        if not isinstance(allowed, bool):
+            raise TypeError(f"allowed must be True or False, not {allowed!r}")
+        firsts = self._names(first, "first")
+        if second is None:
+            for name in firsts:
+                for key in [k for k in self._entries if name in k]:
+                    self._entries[key] = allowed
+        else:
+            for a in firsts:
+                for b in self._names(second, "second"):
+                    self._entries[frozenset((a, b))] = allowed
+        self.version += 1
+
+    def remove_entry(self, first: str, second: str | None = None) -> None:
+        """Drop the explicit entry of a pair, or every entry of ``first``."""
+        if second is None:
+            for key in [k for k in self._entries if first in k]:
+                del self._entries[key]
+            self._defaults.pop(first, None)
+        else:
+            self._entries.pop(frozenset((first, second)), None)
+        self.version += 1
+
+    def get_entry(self, first: str, second: str) -> bool:
+        """Whether ``first`` and ``second`` may collide (explicit entry, else defaults)."""
+        entry = self._entries.get(frozenset((first, second)))
+        if entry is not None:
+            return entry
+        return self._defaults.get(first, False) or self._defaults.get(second, False)
+
+    def has_entry(self, first: str, second: str) -> bool:
+        return frozenset((first, second)) in self._entries
+
+    def set_default_entry(self, name: str, allowed: bool) -> None:
+        """Allow (True) or stop allowing (False) collisions of ``name`` with anything that has
+        no explicit entry with it."""
+        if not isinstance(allowed, bool):
+            raise TypeError(f"allowed must be True or False, not {allowed!r}")
+        self._defaults[name] = allowed
+        self.version += 1
+
+    def get_default_entry(self, name: str) -> bool:
+        return self._defaults.get(name, False)
+
+    @property
+    def entry_names(self) -> list[str]:
+        names = {n for key in self._entries for n in key} | set(self._defaults)
+        return sorted(names)
+
+    def to_msg(self) -> msgs.AllowedCollisionMatrix:
+        """As a ``msgs.AllowedCollisionMatrix`` (square matrix over ``entry_names``)."""
+        names = self.entry_names
+        entries = [
+            msgs.AllowedCollisionEntry(enabled=[self.get_entry(a, b) if a != b else False for b in names])
+            for a in names
+        ]
+        return msgs.AllowedCollisionMatrix(
+            entry_names=names,
+            entry_values=entries,
+            default_entry_names=sorted(self._defaults),
+            default_entry_values=[self._defaults[n] for n in sorted(self._defaults)],
+        )
+
+    def __repr__(self) -> str:
+        allowed = sum(self._entries.values())
+        return f"AllowedCollisionMatrix({allowed} allowed pairs, {len(self._entries)} entries)"

@@ -1,0 +1,795 @@
+"""The planning scene: a robot state, world objects, attached objects and an allowed collision
+matrix, with collision checking through coal (via Pinocchio's geometry models).
+
+This is the only module that builds collision geometry. Collision checks run in C++ over one
+Pinocchio ``GeometryModel`` holding the robot's links, the world objects and the attached
+objects, with a collision pair for every pair of bodies the ACM does not allow. That set-up is
+built on first use and shared by every ``diff()`` child until the world, the attached objects
+or the ACM change, so a planner checking thousands of states of one scene pays for it once.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field, replace
+
+import coal
+import numpy as np
+import pinocchio as pin
+
+from mtc import msgs
+from mtc.scene.collision_matrix import AllowedCollisionMatrix
+from mtc.scene.robot_model import DescriptionError, RobotModel
+from mtc.scene.robot_state import RobotState
+
+log = logging.getLogger(__name__)
+
+__all__ = ["PlanningScene", "WorldObject", "AttachedObject", "MeshFile"]
+
+_PRIMITIVE_DIMS = {
+    msgs.SolidPrimitive.BOX: ("box", 3),
+    msgs.SolidPrimitive.SPHERE: ("sphere", 1),
+    msgs.SolidPrimitive.CYLINDER: ("cylinder", 2),
+    msgs.SolidPrimitive.CONE: ("cone", 2),
+}
+
+
+@dataclass(frozen=True)
+class MeshFile:
+    """A mesh shape loaded from a file (STL, OBJ, DAE ... as coal's loader reads them)."""
+
+    filename: str
+    scale: tuple[float, float, float] = (1.0, 1.0, 1.0)
+
+
+@dataclass(frozen=True, eq=False)
+class WorldObject:
+    """A collision object. Immutable: scene edits replace objects, so diffs can share them.
+
+    Attributes:
+        id: the object's name.
+        pose: 4x4 pose in the planning frame (for an attached object: in its link's frame).
+        shapes: ``msgs.SolidPrimitive``, ``msgs.Mesh`` or :class:`MeshFile` items.
+        shape_poses: 4x4 poses of the shapes relative to ``pose``.
+        subframe_poses: named frames relative to ``pose``.
+    """
+
+    id: str
+    pose: np.ndarray
+    shapes: tuple = ()
+    shape_poses: tuple = ()
+    subframe_poses: dict = field(default_factory=dict)
+    geometries: tuple = ()  # coal geometry per shape, built once
+
+    def moved(self, pose: np.ndarray) -> WorldObject:
+        return replace(self, pose=pose)
+
+
+@dataclass(frozen=True, eq=False)
+class AttachedObject:
+    """An object rigidly attached to a robot link; ``object.pose`` is relative to ``link``."""
+
+    object: WorldObject
+    link: str
+    touch_links: frozenset = frozenset()
+    detach_posture: object = None
+
+    @property
+    def id(self) -> str:
+        return self.object.id
+
+
+def _check_name(name, what="object id") -> str:
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"{what} must be a non-empty string, got {name!r}")
+    return name
+
+
+def _primitive_geometry(prim: msgs.SolidPrimitive, object_id: str):
+    if not isinstance(prim, msgs.SolidPrimitive):
+        raise TypeError(f"object '{object_id}': primitives must be SolidPrimitive, not {type(prim).__name__}")
+    if prim.type not in _PRIMITIVE_DIMS:
+        raise ValueError(
+            f"object '{object_id}': unknown primitive type {prim.type} "
+            "(BOX=1, SPHERE=2, CYLINDER=3, CONE=4)"
+        )
+    kind, count = _PRIMITIVE_DIMS[prim.type]
+    dims = [float(d) for d in prim.dimensions]
+    if len(dims) != count or not all(np.isfinite(d) and d > 0 for d in dims):
+        expected = {"box": "[x, y, z]", "sphere": "[radius]", "cylinder": "[height, radius]", "cone": "[height, radius]"}
+        raise ValueError(
+            f"object '{object_id}': a {kind} needs {count} positive dimension(s) {expected[kind]}, got {list(prim.dimensions)}"
+        )
+    if kind == "box":
+        return coal.Box(*dims)
+    if kind == "sphere":
+        return coal.Sphere(dims[0])
+    if kind == "cylinder":
+        return coal.Cylinder(dims[1], dims[0])
+    return coal.Cone(dims[1], dims[0])
+
+
+def _mesh_geometry(mesh, object_id: str):
+    if isinstance(mesh, MeshFile):
+        import os
+
+        if not os.path.isfile(mesh.filename):
+            raise FileNotFoundError(f"object '{object_id}': mesh file '{mesh.filename}' not found")
+        try:
+            return coal.MeshLoader().load(mesh.filename, np.array(mesh.scale, dtype=float))
+        except Exception as e:  # coal raises plain exceptions for unreadable files
+            raise DescriptionError(f"object '{object_id}': cannot read mesh file '{mesh.filename}': {e}") from e
+    if not isinstance(mesh, msgs.Mesh):
+        raise TypeError(f"object '{object_id}': meshes must be msgs.Mesh, not {type(mesh).__name__}")
+    vertices = np.array([[p.x, p.y, p.z] for p in mesh.vertices], dtype=float).reshape(-1, 3)
+    triangles = np.array([t.vertex_indices for t in mesh.triangles], dtype=int).reshape(-1, 3)
+    if len(vertices) < 3 or len(triangles) < 1:
+        raise ValueError(f"object '{object_id}': a mesh needs at least 3 vertices and 1 triangle")
+    if triangles.min() < 0 or triangles.max() >= len(vertices):
+        raise ValueError(f"object '{object_id}': mesh triangle indices must lie in [0, {len(vertices) - 1}]")
+    bvh = coal.BVHModelOBBRSS()
+    bvh.beginModel(len(triangles), len(vertices))
+    bvh.addVertices(vertices)
+    bvh.addTriangles(triangles)
+    bvh.endModel()
+    return bvh
+
+
+def mesh_file_to_msg(filename: str, scale=(1.0, 1.0, 1.0)) -> msgs.Mesh:
+    """Load a mesh file into a ``msgs.Mesh`` (vertices scaled)."""
+    bvh = _mesh_geometry(MeshFile(filename, tuple(scale)), filename)
+    vertices = np.asarray(bvh.vertices())
+    triangles = [bvh.tri_indices(i) for i in range(bvh.num_tris)]
+    return msgs.Mesh(
+        triangles=[msgs.MeshTriangle(vertex_indices=[int(t[0]), int(t[1]), int(t[2])]) for t in triangles],
+        vertices=[msgs.Point(x=float(v[0]), y=float(v[1]), z=float(v[2])) for v in vertices],
+    )
+
+
+class _CollisionEnv:
+    """Robot links + world objects + attached objects in one Pinocchio GeometryModel, with the
+    collision pairs the ACM does not allow. Built per (world, attached, ACM) version."""
+
+    def __init__(self, model: RobotModel, world: dict, attached: dict, acm: AllowedCollisionMatrix):
+        self.model = model
+        pm = model.pinocchio_model
+        gm = pin.GeometryModel()
+        bodies: list[str] = []
+        kinds: list[str] = []  # "robot", "world", "attached"
+        for go in model.collision_model.geometryObjects:
+            gm.addGeometryObject(go)
+            bodies.append(pm.frames[go.parentFrame].name)
+            kinds.append("robot")
+        for obj in world.values():
+            for k, (geom, shape_pose) in enumerate(zip(obj.geometries, obj.shape_poses)):
+                M = pin.SE3(obj.pose @ shape_pose)
+                gm.addGeometryObject(pin.GeometryObject(f"{obj.id}#{k}", 0, 0, M, geom))
+                bodies.append(obj.id)
+                kinds.append("world")
+        touch = {}
+        for att in attached.values():
+            fid = model.frame_id(att.link)
+            frame = pm.frames[fid]
+            for k, (geom, shape_pose) in enumerate(zip(att.object.geometries, att.object.shape_poses)):
+                M = frame.placement * pin.SE3(att.object.pose @ shape_pose)
+                gm.addGeometryObject(pin.GeometryObject(f"{att.id}#{k}", frame.parentJoint, fid, M, geom))
+                bodies.append(att.id)
+                kinds.append("attached")
+            touch[att.id] = att.touch_links | {att.link}
+        self.geom_model = gm
+        self.bodies = bodies
+        self.kinds = kinds
+        self.pairs: list[tuple[int, int]] = []
+        n = len(bodies)
+        allowed_cache: dict[tuple[str, str], bool] = {}
+        for i in range(n):
+            for j in range(i + 1, n):
+                a, b = bodies[i], bodies[j]
+                if a == b or (kinds[i] == "world" and kinds[j] == "world"):
+                    continue
+                key = (a, b)
+                if key not in allowed_cache:
+                    allowed = acm.get_entry(a, b)
+                    if not allowed and kinds[i] == "attached" and b in touch.get(a, ()):
+                        allowed = True
+                    if not allowed and kinds[j] == "attached" and a in touch.get(b, ()):
+                        allowed = True
+                    allowed_cache[key] = allowed
+                if not allowed_cache[key]:
+                    gm.addCollisionPair(pin.CollisionPair(i, j))
+                    self.pairs.append((i, j))
+        self.data = pm.createData()
+        self._checkers: dict[str, tuple] = {}
+
+    def _moving_bodies(self, group: str | None) -> set[str] | None:
+        if not group:
+            return None
+        jmg = self.model.get_joint_model_group(group)
+        moving = set(jmg.updated_link_names)
+        return moving | self._attached_on(moving)  # attached objects move with their links
+
+    def _attached_on(self, links: set[str]) -> set[str]:
+        pm = self.model.pinocchio_model
+        out = set()
+        for go, body, kind in zip(self.geom_model.geometryObjects, self.bodies, self.kinds):
+            if kind == "attached" and pm.frames[go.parentFrame].name in links:
+                out.add(body)
+        return out
+
+    def pair_mask(self, group: str | None, world: bool = True, self_collision: bool = True) -> np.ndarray:
+        """Which collision pairs a query considers."""
+        moving = self._moving_bodies(group)
+        mask = np.zeros(len(self.pairs), dtype=bool)
+        for k, (i, j) in enumerate(self.pairs):
+            is_world = self.kinds[i] == "world" or self.kinds[j] == "world"
+            if (is_world and not world) or (not is_world and not self_collision):
+                continue
+            if moving is not None and self.bodies[i] not in moving and self.bodies[j] not in moving:
+                continue
+            mask[k] = True
+        return mask
+
+    def checker(self, group: str | None):
+        """(geometry data with the group's pairs active, broad-phase manager) for fast checks."""
+        key = group or ""
+        entry = self._checkers.get(key)
+        if entry is None:
+            gd = self._geometry_data(self.pair_mask(group))
+            manager = pin.BroadPhaseManager_DynamicAABBTreeCollisionManager(
+                self.model.pinocchio_model, self.geom_model, gd
+            )
+            entry = (gd, manager)
+            self._checkers[key] = entry
+        return entry
+
+    def colliding(self, q: np.ndarray, group: str | None) -> bool:
+        _, manager = self.checker(group)
+        return bool(pin.computeCollisions(self.model.pinocchio_model, self.data, manager, q, True))
+
+    def _geometry_data(self, mask: np.ndarray) -> pin.GeometryData:
+        gd = self.geom_model.createData()
+        for k, active in enumerate(mask):
+            if not active:
+                gd.deactivateCollisionPair(k)
+        return gd
+
+    def query_data(self, q: np.ndarray, mask: np.ndarray) -> pin.GeometryData:
+        gd = self._geometry_data(mask)
+        pin.updateGeometryPlacements(self.model.pinocchio_model, self.data, self.geom_model, gd, q)
+        return gd
+
+
+class PlanningScene:
+    """A robot state plus its world: objects, attached objects and allowed collisions.
+
+    Mirrors moveit_py's ``PlanningScene``. ``diff()`` makes a cheap child that shares the
+    parent's objects and collision set-up until one of them changes it (copy on write), so a
+    child's changes never show in its parent and the parent's later changes never show in the
+    child.
+
+    Args:
+        robot_model: the robot.
+        name: the scene's name.
+    """
+
+    def __init__(self, robot_model: RobotModel, name: str = ""):
+        if not isinstance(robot_model, RobotModel):
+            raise TypeError(f"PlanningScene needs a RobotModel, not {type(robot_model).__name__}")
+        self._model = robot_model
+        self.name = name
+        self.parent: PlanningScene | None = None
+        self._state = RobotState(robot_model)
+        self._world: dict[str, WorldObject] = {}
+        self._attached: dict[str, AttachedObject] = {}
+        self._acm = AllowedCollisionMatrix(robot_model.disabled_collision_pairs)
+        self._shared = 0  # bit 1: world, 2: attached, 4: acm shared with another scene
+        # tokens replaced on every change of the world / attached objects: the collision set-up
+        # cached under them stays valid exactly as long as they do
+        self._world_token = object()
+        self._attached_token = object()
+        self._env: _CollisionEnv | None = None
+        self._env_key = None
+
+    # ------------------------------------------------------------------ basics
+    @property
+    def robot_model(self) -> RobotModel:
+        return self._model
+
+    @property
+    def planning_frame(self) -> str:
+        return self._model.model_frame
+
+    @property
+    def current_state(self) -> RobotState:
+        """The scene's robot state (the object itself: changing it changes the scene).
+        Assigning copies the given state in."""
+        self._state._attached_frames = self._attached_frame
+        return self._state
+
+    @current_state.setter
+    def current_state(self, state: RobotState) -> None:
+        if not isinstance(state, RobotState):
+            raise TypeError(f"current_state must be a RobotState, not {type(state).__name__}")
+        if state.robot_model is not self._model:
+            raise ValueError("current_state belongs to a different robot model than the scene")
+        self._state = state.copy()
+
+    def set_current_state(self, state: RobotState) -> None:
+        self.current_state = state
+
+    def diff(self) -> PlanningScene:
+        """A child scene that starts equal to this one and never changes it."""
+        child = PlanningScene.__new__(PlanningScene)
+        child._model = self._model
+        child.name = self.name
+        child.parent = self
+        child._state = self._state.copy()
+        child._world = self._world
+        child._attached = self._attached
+        child._acm = self._acm
+        child._world_token = self._world_token
+        child._attached_token = self._attached_token
+        self._shared = child._shared = 7
+        child._env = self._env
+        child._env_key = self._env_key
+        return child
+
+    def copy(self) -> PlanningScene:
+        """A child scene (as ``diff()``) that does not keep a link to its parent."""
+        child = self.diff()
+        child.parent = None
+        return child
+
+    # copy-on-write helpers
+    # (callers change the returned dict right away, so the token is renewed here)
+    def _own_world(self) -> dict:
+        if self._shared & 1:
+            self._world = dict(self._world)
+            self._shared &= ~1
+        self._world_token = object()
+        return self._world
+
+    def _own_attached(self) -> dict:
+        if self._shared & 2:
+            self._attached = dict(self._attached)
+            self._shared &= ~2
+        self._attached_token = object()
+        return self._attached
+
+    @property
+    def allowed_collision_matrix(self) -> AllowedCollisionMatrix:
+        """The scene's ACM (its own copy: edit it in place)."""
+        if self._shared & 4:
+            self._acm = self._acm.copy()
+            self._shared &= ~4
+        return self._acm
+
+    def get_allowed_collision_matrix(self) -> AllowedCollisionMatrix:
+        return self.allowed_collision_matrix
+
+    # ------------------------------------------------------------------ world objects
+    @property
+    def world_object_names(self) -> list[str]:
+        return list(self._world)
+
+    @property
+    def attached_object_names(self) -> list[str]:
+        return list(self._attached)
+
+    def get_world_object(self, name: str) -> WorldObject:
+        """The world object ``name``.
+
+        Raises:
+            KeyError: unknown object, naming the objects that exist.
+        """
+        try:
+            return self._world[name]
+        except KeyError:
+            raise KeyError(
+                f"unknown world object '{name}' (objects: {', '.join(self._world) or 'none'})"
+            ) from None
+
+    def get_attached_object(self, name: str) -> AttachedObject:
+        """The attached object ``name``.
+
+        Raises:
+            KeyError: not attached, naming the attached objects.
+        """
+        try:
+            return self._attached[name]
+        except KeyError:
+            raise KeyError(
+                f"object '{name}' is not attached (attached: {', '.join(self._attached) or 'none'})"
+            ) from None
+
+    def has_object(self, name: str) -> bool:
+        return name in self._world or name in self._attached
+
+    def _frame_of_header(self, frame_id: str, what: str) -> np.ndarray:
+        if not frame_id or frame_id == self.planning_frame:
+            return np.eye(4)
+        try:
+            return self.get_frame_transform(frame_id)
+        except KeyError as e:
+            raise KeyError(f"{what}: {e.args[0]}") from None
+
+    def _make_object(self, msg: msgs.CollisionObject, base: np.ndarray) -> WorldObject:
+        """Build a WorldObject from a message, in the frame ``base`` (4x4)."""
+        oid = msg.id
+        if len(msg.primitives) != len(msg.primitive_poses):
+            raise ValueError(
+                f"object '{oid}': {len(msg.primitives)} primitives but {len(msg.primitive_poses)} primitive_poses"
+            )
+        if len(msg.meshes) != len(msg.mesh_poses):
+            raise ValueError(f"object '{oid}': {len(msg.meshes)} meshes but {len(msg.mesh_poses)} mesh_poses")
+        if msg.planes:
+            raise ValueError(f"object '{oid}': planes are not supported (use a thin box)")
+        if len(msg.subframe_names) != len(msg.subframe_poses):
+            raise ValueError(
+                f"object '{oid}': {len(msg.subframe_names)} subframe_names but {len(msg.subframe_poses)} subframe_poses"
+            )
+        shapes, poses, geoms = [], [], []
+        for prim, pose in zip(msg.primitives, msg.primitive_poses):
+            geoms.append(_primitive_geometry(prim, oid))
+            shapes.append(prim)
+            poses.append(msgs.pose_to_matrix(pose))
+        for mesh, pose in zip(msg.meshes, msg.mesh_poses):
+            geoms.append(_mesh_geometry(mesh, oid))
+            shapes.append(mesh)
+            poses.append(msgs.pose_to_matrix(pose))
+        if not shapes:
+            raise ValueError(f"object '{oid}': ADD needs at least one primitive or mesh")
+        pose = base @ msgs.pose_to_matrix(msg.pose)
+        subframes = {n: msgs.pose_to_matrix(p) for n, p in zip(msg.subframe_names, msg.subframe_poses)}
+        return WorldObject(oid, pose, tuple(shapes), tuple(poses), subframes, tuple(geoms))
+
+    def apply_collision_object(self, msg: msgs.CollisionObject, color=None) -> None:
+        """Add (ADD; replaces an object of the same id), extend (APPEND), move (MOVE) or remove
+        (REMOVE; an empty id removes every world object) a world object. All checks run before
+        anything changes.
+
+        Raises:
+            ValueError: empty id, bad shapes or poses, unknown operation.
+            KeyError: MOVE/REMOVE of an unknown object, or an unknown header frame.
+        """
+        if not isinstance(msg, msgs.CollisionObject):
+            raise TypeError(f"apply_collision_object takes a msgs.CollisionObject, not {type(msg).__name__}")
+        op = msg.operation
+        if op == msgs.CollisionObject.REMOVE:
+            if not msg.id:
+                self._own_world().clear()
+                return
+            self.get_world_object(msg.id)
+            del self._own_world()[msg.id]
+            return
+        _check_name(msg.id)
+        base = self._frame_of_header(msg.header.frame_id, f"object '{msg.id}'")
+        if op == msgs.CollisionObject.ADD:
+            if msg.id in self._attached:
+                raise ValueError(f"object '{msg.id}' is attached to the robot; detach it before adding it again")
+            obj = self._make_object(msg, base)
+            self._own_world()[msg.id] = obj
+        elif op == msgs.CollisionObject.MOVE:
+            old = self.get_world_object(msg.id)
+            self._own_world()[msg.id] = old.moved(base @ msgs.pose_to_matrix(msg.pose))
+        elif op == msgs.CollisionObject.APPEND:
+            extra = self._make_object(msg, base)
+            old = self._world.get(msg.id)
+            if old is None:
+                self._own_world()[msg.id] = extra
+            else:
+                rel = np.linalg.solve(old.pose, extra.pose)
+                obj = replace(
+                    old,
+                    shapes=old.shapes + extra.shapes,
+                    shape_poses=old.shape_poses + tuple(rel @ p for p in extra.shape_poses),
+                    geometries=old.geometries + extra.geometries,
+                    subframe_poses={**old.subframe_poses, **{k: rel @ v for k, v in extra.subframe_poses.items()}},
+                )
+                self._own_world()[msg.id] = obj
+        else:
+            raise ValueError(f"object '{msg.id}': unknown operation {op} (ADD=0, REMOVE=1, APPEND=2, MOVE=3)")
+
+    def process_collision_object(self, msg: msgs.CollisionObject, color=None) -> None:
+        self.apply_collision_object(msg, color)
+
+    def remove_all_collision_objects(self) -> None:
+        self._own_world().clear()
+
+    # ------------------------------------------------------------------ attaching
+    def attach_object(self, name: str, link: str, touch_links=None, detach_posture=None) -> None:
+        """Attach the world object ``name`` rigidly to ``link`` at its current relative pose.
+
+        Args:
+            touch_links: links allowed to touch the object (``link`` always is).
+
+        Raises:
+            KeyError: unknown object or link.
+        """
+        self._model.frame_id(link)
+        obj = self.get_world_object(name)
+        touch = self._touch_links(touch_links)
+        link_pose = self._state.get_global_link_transform(link)
+        attached = AttachedObject(obj.moved(np.linalg.solve(link_pose, obj.pose)), link, touch, detach_posture)
+        del self._own_world()[name]
+        self._own_attached()[name] = attached
+
+    def _touch_links(self, touch_links) -> frozenset:
+        if touch_links is None:
+            return frozenset()
+        if isinstance(touch_links, str):
+            touch_links = [touch_links]
+        touch = frozenset(touch_links)
+        for t in touch:
+            self._model.frame_id(t)
+        return touch
+
+    def detach_object(self, name: str) -> None:
+        """Detach ``name`` and leave it in the world where it is now.
+
+        Raises:
+            KeyError: the object is not attached.
+        """
+        att = self.get_attached_object(name)
+        link_pose = self._state.get_global_link_transform(att.link)
+        del self._own_attached()[name]
+        self._own_world()[name] = att.object.moved(link_pose @ att.object.pose)
+
+    def apply_attached_collision_object(self, msg: msgs.AttachedCollisionObject) -> None:
+        """Attach (object.operation ADD: a new object given with shapes, or an existing world
+        object given by id alone) or detach (REMOVE) as MoveIt does."""
+        if not isinstance(msg, msgs.AttachedCollisionObject):
+            raise TypeError(f"expected msgs.AttachedCollisionObject, not {type(msg).__name__}")
+        obj = msg.object
+        if obj.operation == msgs.CollisionObject.REMOVE:
+            if obj.id:
+                att = self.get_attached_object(obj.id)
+                if msg.link_name and att.link != msg.link_name:
+                    raise KeyError(f"object '{obj.id}' is attached to '{att.link}', not '{msg.link_name}'")
+                self.detach_object(obj.id)
+            else:  # all objects (of a link)
+                for name, att in list(self._attached.items()):
+                    if not msg.link_name or att.link == msg.link_name:
+                        self.detach_object(name)
+            return
+        if obj.operation != msgs.CollisionObject.ADD:
+            raise ValueError("attached objects support ADD (attach) and REMOVE (detach)")
+        _check_name(obj.id)
+        self._model.frame_id(msg.link_name)
+        touch = self._touch_links(msg.touch_links)
+        if obj.primitives or obj.meshes:
+            if obj.id in self._attached:
+                raise ValueError(f"object '{obj.id}' is already attached")
+            frame = obj.header.frame_id or msg.link_name
+            base = self._frame_of_header(frame, f"object '{obj.id}'")
+            world_obj = self._make_object(obj, base)
+            link_pose = self._state.get_global_link_transform(msg.link_name)
+            attached = AttachedObject(world_obj.moved(np.linalg.solve(link_pose, world_obj.pose)), msg.link_name, touch)
+            if obj.id in self._world:
+                del self._own_world()[obj.id]
+            self._own_attached()[obj.id] = attached
+        else:
+            self.attach_object(obj.id, msg.link_name, touch)
+
+    # ------------------------------------------------------------------ frames
+    def _attached_frame(self, frame: str):
+        """(link, offset) of an attached object or its subframe, else None."""
+        name, _, sub = frame.partition("/")
+        att = self._attached.get(name)
+        if att is None:
+            return None
+        if not sub:
+            return att.link, att.object.pose
+        offset = att.object.subframe_poses.get(sub)
+        return None if offset is None else (att.link, att.object.pose @ offset)
+
+    def get_frame_transform(self, frame: str) -> np.ndarray:
+        """4x4 pose in the planning frame of a link, a world or attached object, or an object's
+        subframe (``"object/subframe"``).
+
+        Raises:
+            KeyError: unknown frame, naming the links and objects that exist.
+        """
+        if frame == self.planning_frame or frame == "":
+            return np.eye(4)
+        entry = self._attached_frame(frame)
+        if entry is not None:
+            return self._state.get_global_link_transform(entry[0]) @ entry[1]
+        name, _, sub = frame.partition("/")
+        obj = self._world.get(name)
+        if obj is not None:
+            if not sub:
+                return obj.pose.copy()
+            if sub in obj.subframe_poses:
+                return obj.pose @ obj.subframe_poses[sub]
+        if frame in self._model._frame_ids:
+            return self._state.get_global_link_transform(frame)
+        objects = [*self._world, *self._attached]
+        raise KeyError(
+            f"unknown frame '{frame}' (links: {', '.join(self._model.link_model_names)}; "
+            f"objects: {', '.join(objects) or 'none'})"
+        )
+
+    def knows_frame_transform(self, frame: str) -> bool:
+        try:
+            self.get_frame_transform(frame)
+        except KeyError:
+            return False
+        return True
+
+    # ------------------------------------------------------------------ collision checking
+    def _collision_env(self) -> _CollisionEnv:
+        key = (self._world_token, self._attached_token, self._acm, self._acm.version)
+        cached = self._env_key
+        if self._env is None or cached is None or not all(a is b for a, b in zip(key[:3], cached[:3])) or key[3] != cached[3]:
+            self._env = _CollisionEnv(self._model, self._world, self._attached, self._acm)
+            self._env_key = key
+        return self._env
+
+    def _q(self, state: RobotState | None) -> np.ndarray:
+        if state is None:
+            return self._state._q
+        if not isinstance(state, RobotState):
+            raise TypeError(f"state must be a RobotState, not {type(state).__name__}")
+        return state._q
+
+    def _check_group(self, group: str | None) -> None:
+        if group:
+            self._model.get_joint_model_group(group)
+
+    def is_state_colliding(self, state: RobotState | None = None, group: str | None = None) -> bool:
+        """Whether the robot (only the links that ``group`` moves, if given) collides with
+        itself, the world or attached objects, honouring the ACM.
+
+        Args:
+            state: the state to check (default: the scene's current state).
+            group: restrict to pairs involving a body the group moves.
+        """
+        self._check_group(group)
+        return self._collision_env().colliding(self._q(state), group)
+
+    def is_state_valid(self, state: RobotState | None = None, group: str | None = None) -> bool:
+        """Collision-free and inside the joint bounds."""
+        st = self._state if state is None else state
+        return st.satisfies_bounds(group) and not self.is_state_colliding(st, group)
+
+    def state_validity_checker(self, group: str | None = None):
+        """A fast callable ``f(q) -> bool`` telling whether a full variable vector ``q`` is
+        collision-free (bounds are not checked: planners sample inside them). The set-up is
+        bound to the scene as it is now."""
+        self._check_group(group)
+        env = self._collision_env()
+        pm = self._model.pinocchio_model
+        data = pm.createData()
+        _, manager = env.checker(group)
+        compute = pin.computeCollisions
+
+        def is_valid(q: np.ndarray) -> bool:
+            return not compute(pm, data, manager, q, True)
+
+        return is_valid
+
+    def check_states(self, Q: np.ndarray, group: str | None = None) -> np.ndarray:
+        """Validity (collision-free) of each row of ``Q`` (n x variable_count)."""
+        Q = np.asarray(Q, dtype=float)
+        if Q.ndim != 2 or Q.shape[1] != self._model.variable_count:
+            raise ValueError(f"Q must be n x {self._model.variable_count}, got shape {Q.shape}")
+        is_valid = self.state_validity_checker(group)
+        return np.fromiter((is_valid(q) for q in Q), dtype=bool, count=len(Q))
+
+    def get_collisions(self, state: RobotState | None = None, group: str | None = None) -> list[tuple[str, str]]:
+        """Pairs of colliding bodies (link or object names), each pair once."""
+        return [(a, b) for a, b, *_ in self.get_contacts(state, group)]
+
+    def get_contacts(self, state: RobotState | None = None, group: str | None = None, max_contacts: int = 1):
+        """Colliding pairs with contact data: list of ``(body_a, body_b, contacts)`` where
+        contacts are ``(position (3,), normal (3,) from a to b, penetration depth)``."""
+        self._check_group(group)
+        env = self._collision_env()
+        q = self._q(state)
+        gd = env.query_data(q, env.pair_mask(group))
+        for req in gd.collisionRequests:
+            req.num_max_contacts = max_contacts
+            req.enable_contact = True
+        pin.computeCollisions(env.geom_model, gd, False)
+        seen: dict[tuple[str, str], list] = {}
+        for k, (i, j) in enumerate(env.pairs):
+            result = gd.collisionResults[k]
+            if not gd.activeCollisionPairs[k] or not result.isCollision():
+                continue
+            key = (env.bodies[i], env.bodies[j])
+            contacts = seen.setdefault(key, [])
+            for c in result.getContacts():
+                contacts.append((np.array(c.pos), np.array(c.normal), float(c.penetration_depth)))
+        return [(a, b, c) for (a, b), c in seen.items()]
+
+    def collision_distances(
+        self, state: RobotState | None = None, group: str | None = None, world: bool = True, self_collision: bool = False
+    ) -> list[tuple[float, str, str]]:
+        """Distance of each considered body pair (negative: penetrating), ascending. Each body
+        pair is reported once, with the minimum over its shapes."""
+        self._check_group(group)
+        env = self._collision_env()
+        mask = env.pair_mask(group, world=world, self_collision=self_collision)
+        if not mask.any():
+            return []
+        gd = env.query_data(self._q(state), mask)
+        best: dict[tuple[str, str], float] = {}
+        for k, (i, j) in enumerate(env.pairs):
+            if not mask[k]:
+                continue
+            d = pin.computeDistance(env.geom_model, gd, k).min_distance
+            key = (env.bodies[i], env.bodies[j])
+            if d < best.get(key, np.inf):
+                best[key] = float(d)
+        return sorted((d, a, b) for (a, b), d in best.items())
+
+    def distance_to_collision(self, state: RobotState | None = None, group: str | None = None) -> float:
+        """Smallest distance between the robot (with attached objects) and the world [m];
+        infinite with no world objects. As MoveIt's ``distanceToCollision``."""
+        distances = self.collision_distances(state, group, world=True, self_collision=False)
+        return distances[0][0] if distances else float("inf")
+
+    def is_path_valid(self, trajectory, group: str | None = None) -> bool:
+        """Whether every waypoint of a trajectory is inside its bounds and collision-free."""
+        is_valid = self.state_validity_checker(group)
+        for state in trajectory.waypoints:
+            if not state.satisfies_bounds(group) or not is_valid(state._q):
+                return False
+        return True
+
+    # ------------------------------------------------------------------ messages
+    def _object_msg(self, obj: WorldObject, frame_id: str) -> msgs.CollisionObject:
+        msg = msgs.CollisionObject(
+            header=msgs.Header(frame_id=frame_id), pose=msgs.matrix_to_pose(obj.pose), id=obj.id
+        )
+        for shape, pose in zip(obj.shapes, obj.shape_poses):
+            if isinstance(shape, msgs.SolidPrimitive):
+                msg.primitives.append(shape)
+                msg.primitive_poses.append(msgs.matrix_to_pose(pose))
+            else:
+                msg.meshes.append(shape if isinstance(shape, msgs.Mesh) else mesh_file_to_msg(shape.filename, shape.scale))
+                msg.mesh_poses.append(msgs.matrix_to_pose(pose))
+        for name, pose in obj.subframe_poses.items():
+            msg.subframe_names.append(name)
+            msg.subframe_poses.append(msgs.matrix_to_pose(pose))
+        return msg
+
+    def get_collision_object_msg(self, name: str) -> msgs.CollisionObject:
+        return self._object_msg(self.get_world_object(name), self.planning_frame)
+
+    def get_attached_collision_object_msg(self, name: str) -> msgs.AttachedCollisionObject:
+        att = self.get_attached_object(name)
+        return msgs.AttachedCollisionObject(
+            link_name=att.link, object=self._object_msg(att.object, att.link), touch_links=sorted(att.touch_links)
+        )
+
+    def get_robot_state_msg(self, state: RobotState | None = None) -> msgs.RobotState:
+        st = self._state if state is None else state
+        return msgs.RobotState(
+            joint_state=msgs.JointState(
+                header=msgs.Header(frame_id=self.planning_frame),
+                name=list(self._model.variable_names),
+                position=st._q.tolist(),
+            ),
+            attached_collision_objects=[self.get_attached_collision_object_msg(n) for n in self._attached],
+        )
+
+    def get_planning_scene_msg(self) -> msgs.PlanningScene:
+        """The whole scene as a ``msgs.PlanningScene``."""
+        return msgs.PlanningScene(
+            name=self.name,
+            robot_state=self.get_robot_state_msg(),
+            robot_model_name=self._model.name,
+            allowed_collision_matrix=self._acm.to_msg(),
+            world=msgs.PlanningSceneWorld(
+                collision_objects=[self.get_collision_object_msg(n) for n in self._world]
+            ),
+            is_diff=False,
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"PlanningScene(robot={self._model.name!r}, objects={list(self._world)}, "
+            f"attached={list(self._attached)})"
+        )

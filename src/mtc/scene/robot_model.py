@@ -1,0 +1,639 @@
+"""The kinematic robot model: URDF through Pinocchio, plus MoveIt's semantics from the SRDF.
+
+One *variable* per movable joint (revolute, continuous, prismatic), in Pinocchio's ``q``
+order. Continuous joints are one angle (Pinocchio's cos/sin form is avoided by loading them
+as unbounded revolute joints), so a robot state is a plain vector. Mimic joints are variables
+that follow their master; groups expose only their *active* (non-mimic, non-passive) variables.
+"""
+
+from __future__ import annotations
+
+import logging
+import os
+import site
+import sys
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+import pinocchio as pin
+
+from mtc.scene.srdf import SRDF, DescriptionError, parse_srdf, parse_xml, read_xml_source
+
+log = logging.getLogger(__name__)
+
+__all__ = ["RobotModel", "JointModelGroup", "EndEffector", "DescriptionError", "default_package_dirs"]
+
+#: Acceleration limit used where neither the URDF nor ``joint_limits`` gives one [rad/s^2 or m/s^2].
+DEFAULT_ACCELERATION_LIMIT = 3.0
+#: Velocity limit used where the URDF gives none (or zero) [rad/s or m/s].
+DEFAULT_VELOCITY_LIMIT = 1.0
+#: Default time budget of one IK call for a group [s].
+DEFAULT_IK_TIMEOUT = 0.05
+_UNBOUNDED = 1e9  # limit written into Pinocchio's copy of a continuous joint
+
+
+def default_package_dirs() -> list[str]:
+    """Folders that hold ROS packages for ``package://`` URIs: the ``share`` folder of the
+    ``example-robot-data`` install (cmeel layout) wherever it lies on ``sys.path``."""
+    roots = list(dict.fromkeys([*site.getsitepackages(), site.getusersitepackages(), *sys.path]))
+    dirs = []
+    for root in roots:
+        share = os.path.join(root, "cmeel.prefix", "share")
+        if os.path.isdir(os.path.join(share, "example-robot-data")) and share not in dirs:
+            dirs.append(share)
+    return dirs
+
+
+@dataclass
+class _UrdfJoint:
+    name: str
+    type: str
+    parent: str
+    child: str
+    lower: float = -np.inf
+    upper: float = np.inf
+    velocity: float = 0.0
+    effort: float = 0.0
+    mimic: tuple[str, float, float] | None = None  # (master, multiplier, offset)
+
+
+@dataclass
+class EndEffector:
+    """An end effector of the SRDF: ``group`` attached to ``parent_link`` of ``parent_group``."""
+
+    name: str
+    group: str
+    parent_link: str
+    parent_group: str
+
+
+@dataclass
+class JointModelGroup:
+    """A planning group: its joints, links and active variables.
+
+    Attributes:
+        variable_names: active (non-mimic, non-passive) variables in model order; what
+            ``set_joint_group_positions`` takes.
+        variable_indices: their indices into a full state vector.
+        updated_link_names: every link whose pose moves with the group's variables (the
+            links a group-restricted collision check looks at).
+    """
+
+    name: str
+    joint_model_names: list[str]
+    active_joint_model_names: list[str]
+    variable_names: list[str]
+    variable_indices: np.ndarray
+    link_model_names: list[str]
+    updated_link_names: list[str]
+    end_effector_tips: list[str]
+    lower_bounds: np.ndarray
+    upper_bounds: np.ndarray
+    subgroup_names: list[str] = field(default_factory=list)
+    is_chain: bool = False
+    chain_tip: str = ""
+    default_ik_timeout: float = DEFAULT_IK_TIMEOUT
+
+    @property
+    def variable_count(self) -> int:
+        return len(self.variable_names)
+
+    @property
+    def active_variable_count(self) -> int:
+        return len(self.variable_names)
+
+    def __repr__(self) -> str:
+        return f"JointModelGroup({self.name!r}, variables={self.variable_names})"
+
+
+class RobotModel:
+    """A robot: Pinocchio kinematics and geometry plus the SRDF's groups and states.
+
+    Args:
+        urdf: URDF file path or XML text.
+        srdf: SRDF file path or XML text (optional: without it there are no groups).
+        package_dirs: folders searched for ``package://`` mesh URIs, in addition to the
+            ``example-robot-data`` install.
+        joint_limits: optional per-joint overrides ``{joint: {"max_velocity": v,
+            "max_acceleration": a}}`` (as MoveIt's ``joint_limits.yaml``).
+        convex_collision_meshes: check robot link meshes as their convex hulls (about 4x
+            faster, slightly conservative); world objects keep their exact meshes.
+
+    Raises:
+        DescriptionError: a file is missing or malformed, a mesh cannot be found, or the SRDF
+            names a joint, link or group the URDF does not have.
+    """
+
+    def __init__(
+        self,
+        urdf: str,
+        srdf: str | None = None,
+        package_dirs: list[str] | str | None = None,
+        joint_limits: dict[str, dict[str, float]] | None = None,
+        convex_collision_meshes: bool = True,
+    ):
+        if isinstance(package_dirs, (str, os.PathLike)):
+            package_dirs = [os.fspath(package_dirs)]
+        self.package_dirs = [*(package_dirs or []), *default_package_dirs()]
+        urdf_text, urdf_label = read_xml_source(urdf, "URDF")
+        self._urdf_label = urdf_label
+        if isinstance(urdf, str) and not urdf.lstrip().startswith("<"):
+            # relative mesh paths in a URDF file are relative to the file
+            self.package_dirs.append(os.path.dirname(os.path.abspath(urdf)))
+        self._parse_urdf(urdf_text, urdf_label)
+        self._check_meshes(urdf_text, urdf_label)
+        self._build_pinocchio(urdf_text, urdf_label, convex_collision_meshes)
+        self._srdf = parse_srdf(srdf) if srdf is not None else SRDF(name=self.name)
+        self._resolve_srdf(joint_limits or {})
+
+    # ------------------------------------------------------------------ URDF
+    def _parse_urdf(self, text: str, label: str) -> None:
+        root = parse_xml(text, label)
+        self.name = root.get("name", "")
+        self._links: list[str] = []
+        self._link_has_geometry: dict[str, bool] = {}
+        for link in root.findall("link"):
+            name = link.get("name")
+            if not name:
+                raise DescriptionError(f"{label}: a <link> has no name")
+            self._links.append(name)
+            self._link_has_geometry[name] = link.find("collision") is not None
+        self._joints: dict[str, _UrdfJoint] = {}
+        for j in root.findall("joint"):
+            name, jtype = j.get("name"), j.get("type")
+            parent, child = j.find("parent"), j.find("child")
+            if not name or not jtype or parent is None or child is None:
+                raise DescriptionError(f"{label}: joint '{name}' lacks a name, type, parent or child")
+            joint = _UrdfJoint(name, jtype, parent.get("link", ""), child.get("link", ""))
+            for end in (joint.parent, joint.child):
+                if end not in self._link_has_geometry:
+                    raise DescriptionError(f"{label}: joint '{name}' refers to unknown link '{end}'")
+            if jtype not in ("revolute", "continuous", "prismatic", "fixed"):
+                raise DescriptionError(
+                    f"{label}: joint '{name}' has type '{jtype}'; "
+                    "supported: revolute, continuous, prismatic, fixed"
+                )
+            limit = j.find("limit")
+            if limit is not None:
+                joint.velocity = float(limit.get("velocity", 0.0))
+                joint.effort = float(limit.get("effort", 0.0))
+                if jtype != "continuous":
+                    joint.lower = float(limit.get("lower", 0.0))
+                    joint.upper = float(limit.get("upper", 0.0))
+            elif jtype in ("revolute", "prismatic"):
+                raise DescriptionError(f"{label}: {jtype} joint '{name}' has no <limit>")
+            mimic = j.find("mimic")
+            if mimic is not None:
+                joint.mimic = (
+                    mimic.get("joint", ""),
+                    float(mimic.get("multiplier", 1.0)),
+                    float(mimic.get("offset", 0.0)),
+                )
+            self._joints[name] = joint
+        for joint in self._joints.values():
+            if joint.mimic and joint.mimic[0] not in self._joints:
+                raise DescriptionError(
+                    f"{label}: joint '{joint.name}' mimics unknown joint '{joint.mimic[0]}'"
+                )
+        self._parent_joint = {j.child: j for j in self._joints.values()}
+        roots = [link for link in self._links if link not in self._parent_joint]
+        if len(roots) != 1:
+            raise DescriptionError(f"{label}: expected one root link, found {roots}")
+        self.root_link_name = roots[0]
+        self._children: dict[str, list[_UrdfJoint]] = {link: [] for link in self._links}
+        for joint in self._joints.values():
+            self._children[joint.parent].append(joint)
+
+    def _mesh_uris(self, text: str) -> list[str]:
+        root = ET.fromstring(text)
+        return [m.get("filename", "") for m in root.iter("mesh")]
+
+    def resolve_uri(self, uri: str) -> str:
+        """Return the file behind a ``package://`` or ``file://`` URI or path.
+
+        Raises:
+            DescriptionError: no package folder holds the file.
+        """
+        if uri.startswith("package://"):
+            rel = uri[len("package://") :]
+            for d in self.package_dirs:
+                path = os.path.join(d, rel)
+                if os.path.isfile(path):
+                    return path
+            raise DescriptionError(
+                f"mesh '{uri}' not found in the package folders {self.package_dirs}"
+            )
+        path = uri[len("file://") :] if uri.startswith("file://") else uri
+        if os.path.isfile(path):
+            return path
+        for d in self.package_dirs:
+            if os.path.isfile(os.path.join(d, path)):
+                return os.path.join(d, path)
+        raise DescriptionError(f"mesh file '{uri}' not found")
+
+    def _check_meshes(self, text: str, label: str) -> None:
+        for uri in self._mesh_uris(text):
+            try:
+                self.resolve_uri(uri)
+            except DescriptionError as e:
+                raise DescriptionError(f"{label}: {e}") from None
+
+    def _build_pinocchio(self, text: str, label: str, convex: bool) -> None:
+        # Continuous joints become unbounded revolute joints so that each has one variable.
+        root = ET.fromstring(text)
+        for j in root.findall("joint"):
+            if j.get("type") == "continuous":
+                j.set("type", "revolute")
+                limit = j.find("limit")
+                if limit is None:
+                    limit = ET.SubElement(j, "limit", effort="0", velocity="0")
+                limit.set("lower", str(-_UNBOUNDED))
+                limit.set("upper", str(_UNBOUNDED))
+        xml = ET.tostring(root, encoding="unicode")
+        try:
+            self.pinocchio_model = pin.buildModelFromXML(xml)
+            self.collision_model = pin.buildGeomFromUrdfString(
+                self.pinocchio_model, xml, pin.GeometryType.COLLISION, package_dirs=self.package_dirs
+            )
+            self.visual_model = pin.buildGeomFromUrdfString(
+                self.pinocchio_model, xml, pin.GeometryType.VISUAL, package_dirs=self.package_dirs
+            )
+        except (RuntimeError, ValueError) as e:
+            raise DescriptionError(f"{label}: Pinocchio cannot load it: {e}") from e
+        pm = self.pinocchio_model
+        if convex:
+            import coal  # Pinocchio's own geometry types; the scene module does the rest
+
+            for go in self.collision_model.geometryObjects:
+                geom = go.geometry
+                if isinstance(geom, coal.BVHModelBase) and geom.num_vertices >= 4:
+                    geom.buildConvexHull(True, "Qt")
+                    go.geometry = geom.convex
+        self._data = pm.createData()
+        self._fk_owner = None  # the RobotState whose positions are in self._data
+        names = []
+        for jid in range(1, pm.njoints):
+            if pm.joints[jid].nq != 1:
+                raise DescriptionError(f"{label}: joint '{pm.names[jid]}' has {pm.joints[jid].nq} variables")
+            names.append(pm.names[jid])
+        order = np.argsort([pm.joints[pm.getJointId(n)].idx_q for n in names])
+        self.variable_names: list[str] = [names[i] for i in order]
+        self._var_index = {n: i for i, n in enumerate(self.variable_names)}
+        nv = len(self.variable_names)
+        self.lower_bounds = np.full(nv, -np.inf)
+        self.upper_bounds = np.full(nv, np.inf)
+        self.continuous_mask = np.zeros(nv, dtype=bool)
+        self.velocity_limits = np.full(nv, DEFAULT_VELOCITY_LIMIT)
+        self.effort_limits = np.zeros(nv)
+        for name, i in self._var_index.items():
+            joint = self._joints[name]
+            if joint.type == "continuous":
+                self.continuous_mask[i] = True
+            else:
+                self.lower_bounds[i], self.upper_bounds[i] = joint.lower, joint.upper
+            if joint.velocity > 0:
+                self.velocity_limits[i] = joint.velocity
+            self.effort_limits[i] = joint.effort
+        # mimic followers: (follower index, master index, multiplier, offset)
+        self.mimic_followers = [
+            (self._var_index[j.name], self._var_index[j.mimic[0]], j.mimic[1], j.mimic[2])
+            for j in self._joints.values()
+            if j.mimic and j.name in self._var_index
+        ]
+        self._frame_ids: dict[str, int] = {}
+        for fid, frame in enumerate(pm.frames):
+            if frame.type == pin.FrameType.BODY:
+                self._frame_ids.setdefault(frame.name, fid)
+
+    # ------------------------------------------------------------------ SRDF
+    def _resolve_srdf(self, joint_limits: dict) -> None:
+        srdf = self._srdf
+        self.model_frame = self.root_link_name
+        self.virtual_joint_names: list[str] = []
+        for vj in srdf.virtual_joints:
+            if vj.child_link != self.root_link_name:
+                raise DescriptionError(
+                    f"SRDF: virtual joint '{vj.name}' connects link '{vj.child_link}', "
+                    f"but the URDF's root link is '{self.root_link_name}'"
+                )
+            if vj.type != "fixed":
+                raise DescriptionError(
+                    f"SRDF: virtual joint '{vj.name}' has type '{vj.type}'; mtc supports 'fixed'"
+                )
+            self.model_frame = vj.parent_frame
+            self.virtual_joint_names.append(vj.name)
+            if vj.parent_frame not in self._frame_ids:
+                pm = self.pinocchio_model
+                fid = pm.addFrame(pin.Frame(vj.parent_frame, 0, 0, pin.SE3.Identity(), pin.FrameType.BODY))
+                self._frame_ids[vj.parent_frame] = fid
+                self._data = pm.createData()
+        for name in srdf.passive_joints:
+            if name not in self._joints:
+                raise DescriptionError(f"SRDF: passive joint '{name}' is not a joint of the URDF")
+        self.passive_joint_names = list(srdf.passive_joints)
+        self.acceleration_limits = np.full(len(self.variable_names), DEFAULT_ACCELERATION_LIMIT)
+        for joint, limits in joint_limits.items():
+            i = self.variable_index(joint)
+            if "max_velocity" in limits:
+                self.velocity_limits[i] = float(limits["max_velocity"])
+            if "max_acceleration" in limits:
+                self.acceleration_limits[i] = float(limits["max_acceleration"])
+        mimic_names = {self.variable_names[f] for f, *_ in self.mimic_followers}
+        self._active_names = [
+            n for n in self.variable_names if n not in mimic_names and n not in self.passive_joint_names
+        ]
+        self.active_variable_mask = np.array([n in self._active_names for n in self.variable_names])
+
+        specs = {g.name: g for g in srdf.groups}
+        self._groups: dict[str, JointModelGroup] = {}
+        for g in srdf.groups:
+            self._groups[g.name] = self._make_group(g, specs, ())
+
+        self._end_effectors: dict[str, EndEffector] = {}
+        for e in srdf.end_effectors:
+            if e.group not in self._groups:
+                raise DescriptionError(f"SRDF: end effector '{e.name}' uses unknown group '{e.group}'")
+            self._require_link(e.parent_link, f"SRDF: end effector '{e.name}'")
+            if e.parent_group and e.parent_group not in self._groups:
+                raise DescriptionError(
+                    f"SRDF: end effector '{e.name}' has unknown parent group '{e.parent_group}'"
+                )
+            self._end_effectors[e.name] = EndEffector(e.name, e.group, e.parent_link, e.parent_group)
+        for group in self._groups.values():
+            tips = [e.parent_link for e in self._end_effectors.values() if e.parent_group == group.name]
+            group.end_effector_tips = tips or ([group.chain_tip] if group.chain_tip else [])
+
+        self._group_states: dict[str, dict[str, dict[str, float]]] = {}
+        for s in srdf.group_states:
+            if s.group not in self._groups:
+                raise DescriptionError(f"SRDF: group state '{s.name}' refers to unknown group '{s.group}'")
+            group = self._groups[s.group]
+            for joint in s.values:
+                if joint not in group.joint_model_names:
+                    raise DescriptionError(
+                        f"SRDF: group state '{s.name}' sets joint '{joint}', "
+                        f"which is not in group '{s.group}' (joints: {', '.join(group.variable_names)})"
+                    )
+            self._group_states.setdefault(s.group, {})[s.name] = dict(s.values)
+
+        self.disabled_collision_pairs: list[tuple[str, str]] = []
+        for a, b, _reason in srdf.disabled_collisions:
+            unknown = [x for x in (a, b) if x != "*" and x not in self._link_has_geometry]
+            if unknown:
+                log.warning("SRDF disables collisions of unknown link(s) %s; ignored", unknown)
+                continue
+            self.disabled_collision_pairs.append((a, b))
+
+    def _require_link(self, link: str, context: str) -> None:
+        if link not in self._link_has_geometry:
+            raise DescriptionError(f"{context}: unknown link '{link}' (links: {', '.join(self._links)})")
+
+    def _chain_joints(self, base: str, tip: str, context: str) -> list[str]:
+        self._require_link(base, context)
+        self._require_link(tip, context)
+        joints = []
+        link = tip
+        while link != base:
+            joint = self._parent_joint.get(link)
+            if joint is None:
+                raise DescriptionError(f"{context}: link '{base}' is not an ancestor of '{tip}'")
+            joints.append(joint.name)
+            link = joint.parent
+        return joints[::-1]
+
+    def _subtree_links(self, link: str) -> list[str]:
+        out, stack = [], [link]
+        while stack:
+            current = stack.pop()
+            out.append(current)
+            stack.extend(j.child for j in reversed(self._children[current]))
+        return out
+
+    def _tree_order(self) -> dict[str, int]:
+        order = {}
+        for i, link in enumerate(self._subtree_links(self.root_link_name)):
+            joint = self._parent_joint.get(link)
+            if joint is not None:
+                order[joint.name] = i
+        return order
+
+    def _make_group(self, spec, specs, visiting) -> JointModelGroup:
+        context = f"SRDF: group '{spec.name}'"
+        if spec.name in visiting:
+            raise DescriptionError(f"{context} contains itself through subgroups")
+        joints: list[str] = []
+        links: list[str] = []
+        for name in spec.joints:
+            if name in self.virtual_joint_names:
+                continue
+            if name not in self._joints:
+                raise DescriptionError(
+                    f"{context}: unknown joint '{name}' (joints: {', '.join(self._joints)})"
+                )
+            joints.append(name)
+        for link in spec.links:
+            self._require_link(link, context)
+            links.append(link)
+            parent = self._parent_joint.get(link)
+            if parent is not None:
+                joints.append(parent.name)
+        chain_tip = ""
+        for base, tip in spec.chains:
+            joints.extend(self._chain_joints(base, tip, context))
+            chain_tip = tip
+        subgroups = []
+        for sub in spec.subgroups:
+            if sub not in specs:
+                raise DescriptionError(f"{context}: unknown subgroup '{sub}'")
+            subgroup = self._make_group(specs[sub], specs, (*visiting, spec.name))
+            joints.extend(subgroup.joint_model_names)
+            links.extend(subgroup.link_model_names)
+            subgroups.append(sub)
+        # mimic followers move with their master: a group holding the master holds them too
+        for follower, master, *_ in self.mimic_followers:
+            if self.variable_names[master] in joints:
+                joints.append(self.variable_names[follower])
+        order = self._tree_order()
+        joints = sorted(dict.fromkeys(joints), key=lambda n: order.get(n, -1))
+        for name in joints:
+            links.append(self._joints[name].child)
+        links = sorted(dict.fromkeys(links), key=lambda n: self._links.index(n))
+        active = [n for n in joints if n in self._active_names]
+        indices = np.array([self._var_index[n] for n in active], dtype=int)
+        updated = []
+        for name in joints:
+            if name in self._var_index:
+                updated.extend(self._subtree_links(self._joints[name].child))
+        updated = sorted(dict.fromkeys(updated), key=lambda n: self._links.index(n))
+        return JointModelGroup(
+            name=spec.name,
+            joint_model_names=joints,
+            active_joint_model_names=active,
+            variable_names=active,
+            variable_indices=indices,
+            link_model_names=links,
+            updated_link_names=updated,
+            end_effector_tips=[],
+            lower_bounds=self.lower_bounds[indices],
+            upper_bounds=self.upper_bounds[indices],
+            subgroup_names=subgroups,
+            is_chain=len(spec.chains) == 1 and not spec.joints and not spec.links and not spec.subgroups,
+            chain_tip=chain_tip,
+        )
+
+    # ------------------------------------------------------------------ queries
+    @property
+    def variable_count(self) -> int:
+        return len(self.variable_names)
+
+    @property
+    def joint_model_names(self) -> list[str]:
+        return list(self._joints)
+
+    @property
+    def active_joint_model_names(self) -> list[str]:
+        return list(self._active_names)
+
+    @property
+    def link_model_names(self) -> list[str]:
+        return list(self._links)
+
+    @property
+    def links_with_collision_geometry(self) -> list[str]:
+        return [link for link in self._links if self._link_has_geometry[link]]
+
+    @property
+    def joint_model_group_names(self) -> list[str]:
+        return list(self._groups)
+
+    @property
+    def end_effectors(self) -> list[str]:
+        return list(self._end_effectors)
+
+    @cached_property
+    def _all_group(self) -> JointModelGroup:
+        indices = np.array([self._var_index[n] for n in self._active_names], dtype=int)
+        return JointModelGroup(
+            name="",
+            joint_model_names=list(self._joints),
+            active_joint_model_names=list(self._active_names),
+            variable_names=list(self._active_names),
+            variable_indices=indices,
+            link_model_names=list(self._links),
+            updated_link_names=list(self._links),
+            end_effector_tips=[],
+            lower_bounds=self.lower_bounds[indices],
+            upper_bounds=self.upper_bounds[indices],
+        )
+
+    def variable_index(self, name: str) -> int:
+        """Index of a joint variable in a state vector.
+
+        Raises:
+            KeyError: unknown joint, naming the joints that exist.
+        """
+        try:
+            return self._var_index[name]
+        except KeyError:
+            raise KeyError(
+                f"unknown joint '{name}' in robot '{self.name}' (joints: {', '.join(self.variable_names)})"
+            ) from None
+
+    def has_joint_model_group(self, name: str) -> bool:
+        return name in self._groups
+
+    def has_link_model(self, name: str) -> bool:
+        return name in self._link_has_geometry or name == self.model_frame
+
+    def get_joint_model_group(self, name: str | None) -> JointModelGroup:
+        """The group called ``name`` (``None`` or "": all active variables of the robot).
+
+        Raises:
+            KeyError: unknown group, naming the groups that exist.
+        """
+        if name is None or name == "":
+            return self._all_group
+        if isinstance(name, JointModelGroup):
+            return name
+        try:
+            return self._groups[name]
+        except KeyError:
+            raise KeyError(
+                f"unknown planning group '{name}' (groups: {', '.join(self._groups) or 'none'})"
+            ) from None
+
+    def get_end_effector(self, name: str) -> EndEffector:
+        """The end effector ``name``.
+
+        Raises:
+            KeyError: unknown end effector, naming those that exist.
+        """
+        try:
+            return self._end_effectors[name]
+        except KeyError:
+            raise KeyError(
+                f"unknown end effector '{name}' (end effectors: {', '.join(self._end_effectors) or 'none'})"
+            ) from None
+
+    def group_state_names(self, group: str) -> list[str]:
+        """Names of the SRDF's named states of ``group``."""
+        self.get_joint_model_group(group)
+        return list(self._group_states.get(group, {}))
+
+    def get_group_state(self, group: str, name: str) -> dict[str, float]:
+        """Joint values of the named state ``name`` of ``group``.
+
+        Raises:
+            KeyError: unknown group or state, naming what exists.
+        """
+        states = self._group_states.get(self.get_joint_model_group(group).name, {})
+        try:
+            return dict(states[name])
+        except KeyError:
+            raise KeyError(
+                f"unknown named state '{name}' of group '{group}' "
+                f"(states: {', '.join(states) or 'none'})"
+            ) from None
+
+    def frame_id(self, link: str) -> int:
+        """Pinocchio frame index of a link (or the model frame).
+
+        Raises:
+            KeyError: unknown link, naming the links that exist.
+        """
+        try:
+            return self._frame_ids[link]
+        except KeyError:
+            raise KeyError(
+                f"unknown link '{link}' in robot '{self.name}' (links: {', '.join(self._links)})"
+            ) from None
+
+    def parent_joint_name(self, link: str) -> str | None:
+        joint = self._parent_joint.get(link)
+        return joint.name if joint else None
+
+    def rigid_parent_link(self, link: str) -> tuple[str, np.ndarray]:
+        """The nearest ancestor of ``link`` (itself included) that is the child of a movable
+        joint or the root, and ``link``'s fixed 4x4 pose relative to it."""
+        self.frame_id(link)
+        offset = np.eye(4)
+        current = link
+        while True:
+            joint = self._parent_joint.get(current)
+            if joint is None or joint.type != "fixed":
+                return current, offset
+            pm = self.pinocchio_model
+            child = pm.frames[self._frame_ids[current]].placement
+            parent = pm.frames[self._frame_ids[joint.parent]].placement
+            offset = (parent.inverse() * child).homogeneous @ offset
+            current = joint.parent
+
+    def enforce_mimic(self, q: np.ndarray) -> None:
+        """Set mimic followers in ``q`` (in place) from their masters."""
+        for follower, master, multiplier, offset in self.mimic_followers:
+            q[..., follower] = multiplier * q[..., master] + offset
+
+    def __repr__(self) -> str:
+        return f"RobotModel({self.name!r}, groups={self.joint_model_group_names})"

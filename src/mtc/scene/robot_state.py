@@ -1,0 +1,297 @@
+"""Robot states: joint positions of a :class:`RobotModel`, with forward kinematics on demand.
+
+Mirrors moveit_py's ``RobotState``. Forward kinematics is computed lazily, once per change of
+the positions, in the model's shared Pinocchio data (states do not each own a ``pin.Data``,
+which keeps copying a state cheap).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from mtc import msgs
+from mtc.scene.robot_model import JointModelGroup, RobotModel
+
+__all__ = ["RobotState", "as_rng"]
+
+
+def as_rng(rng: np.random.Generator | int | None) -> np.random.Generator:
+    """A numpy Generator from a Generator, an integer seed, or None (seed 0: deterministic)."""
+    if isinstance(rng, np.random.Generator):
+        return rng
+    if rng is None:
+        return np.random.default_rng(0)
+    if isinstance(rng, (int, np.integer)):
+        return np.random.default_rng(int(rng))
+    raise TypeError(f"rng must be a numpy Generator, an int seed or None, not {type(rng).__name__}")
+
+
+def _wrap(delta: np.ndarray) -> np.ndarray:
+    return (delta + np.pi) % (2 * np.pi) - np.pi
+
+
+class RobotState:
+    """Joint positions of a robot, with kinematic queries.
+
+    Args:
+        robot_model: the robot.
+        positions: optional full variable vector (model order); default: zeros clipped into
+            the joint bounds.
+    """
+
+    __slots__ = ("_model", "_q", "_fk_token", "_attached_frames", "__weakref__")
+
+    def __init__(self, robot_model: RobotModel, positions: np.ndarray | None = None):
+        if not isinstance(robot_model, RobotModel):
+            raise TypeError(f"RobotState needs a RobotModel, not {type(robot_model).__name__}")
+        self._model = robot_model
+        if positions is None:
+            q = np.clip(np.zeros(robot_model.variable_count), robot_model.lower_bounds, robot_model.upper_bounds)
+        else:
+            q = np.array(positions, dtype=float)
+            if q.shape != (robot_model.variable_count,):
+                raise ValueError(
+                    f"positions must have {robot_model.variable_count} values "
+                    f"({', '.join(robot_model.variable_names)}), got shape {q.shape}"
+                )
+        robot_model.enforce_mimic(q)
+        self._q = q
+        self._fk_token = None
+        # frames of attached objects, provided by the planning scene: name -> (link, 4x4 offset)
+        self._attached_frames = None
+
+    # ------------------------------------------------------------------ positions
+    @property
+    def robot_model(self) -> RobotModel:
+        return self._model
+
+    @property
+    def positions(self) -> np.ndarray:
+        """Full variable vector in model order (a read-only view; assign to change it)."""
+        view = self._q.view()
+        view.flags.writeable = False
+        return view
+
+    @positions.setter
+    def positions(self, values) -> None:
+        q = np.array(values, dtype=float)
+        if q.shape != self._q.shape:
+            raise ValueError(
+                f"positions must have {self._q.size} values ({', '.join(self._model.variable_names)}), "
+                f"got shape {q.shape}"
+            )
+        self._model.enforce_mimic(q)
+        self._q = q
+        self._fk_token = None
+
+    @property
+    def joint_positions(self) -> dict[str, float]:
+        """All variables as ``{joint: value}``; assigning a dict sets only the joints it names."""
+        return dict(zip(self._model.variable_names, self._q.tolist()))
+
+    @joint_positions.setter
+    def joint_positions(self, values: dict[str, float]) -> None:
+        self.set_variable_positions(values)
+
+    def set_variable_positions(self, values: dict[str, float]) -> None:
+        """Set the named joints (all-or-nothing: an unknown name changes nothing).
+
+        Raises:
+            KeyError: a joint name is unknown.
+        """
+        if not isinstance(values, dict):
+            raise TypeError(f"joint positions must be a dict of joint name -> value, not {type(values).__name__}")
+        indices = [self._model.variable_index(name) for name in values]
+        q = self._q.copy()
+        q[indices] = [float(v) for v in values.values()]
+        self.positions = q
+
+    def set_joint_group_positions(self, group: str, values) -> None:
+        """Set the active variables of ``group`` (in the group's order)."""
+        jmg = self._group(group)
+        values = np.asarray(values, dtype=float).ravel()
+        if values.size != jmg.variable_count:
+            raise ValueError(
+                f"group '{jmg.name}' has {jmg.variable_count} variables "
+                f"({', '.join(jmg.variable_names)}), got {values.size} values"
+            )
+        q = self._q.copy()
+        q[jmg.variable_indices] = values
+        self.positions = q
+
+    def get_joint_group_positions(self, group: str) -> np.ndarray:
+        """The active variables of ``group`` as a new array."""
+        return self._q[self._group(group).variable_indices].copy()
+
+    def set_to_default_values(self, group: str | None = None, name: str | None = None) -> None:
+        """Without arguments: every joint to zero (clipped into its bounds). With a group and a
+        named state of the SRDF: that state's joint values.
+
+        Raises:
+            KeyError: unknown group or named state.
+        """
+        if group is None and name is None:
+            m = self._model
+            self.positions = np.clip(np.zeros(m.variable_count), m.lower_bounds, m.upper_bounds)
+            return
+        if group is None or name is None:
+            raise TypeError("set_to_default_values takes no arguments or both a group and a state name")
+        self.set_variable_positions(self._model.get_group_state(group, name))
+
+    def set_to_random_positions(self, group: str | None = None, rng=None) -> None:
+        """Uniform random values inside the bounds for the group's (default: all) variables;
+        continuous joints in [-pi, pi). ``rng``: numpy Generator or int seed (None: seed 0)."""
+        jmg = self._group(group)
+        gen = as_rng(rng)
+        idx = jmg.variable_indices
+        lo = np.where(np.isfinite(self._model.lower_bounds[idx]), self._model.lower_bounds[idx], -np.pi)
+        hi = np.where(np.isfinite(self._model.upper_bounds[idx]), self._model.upper_bounds[idx], np.pi)
+        q = self._q.copy()
+        q[idx] = gen.uniform(lo, hi)
+        self.positions = q
+
+    def satisfies_bounds(self, group: str | None = None, margin: float = 0.0) -> bool:
+        """Whether the group's (default: all) variables lie inside their bounds (+ margin)."""
+        idx = self._group(group).variable_indices if group else slice(None)
+        q = self._q[idx]
+        return bool(
+            np.all(q >= self._model.lower_bounds[idx] - margin) and np.all(q <= self._model.upper_bounds[idx] + margin)
+        )
+
+    def enforce_bounds(self, group: str | None = None) -> None:
+        """Clip the group's (default: all) variables into their bounds."""
+        idx = self._group(group).variable_indices if group else slice(None)
+        q = self._q.copy()
+        q[idx] = np.clip(q[idx], self._model.lower_bounds[idx], self._model.upper_bounds[idx])
+        self.positions = q
+
+    def distance(self, other: RobotState, group: str | None = None) -> float:
+        """Sum of per-variable distances (continuous joints wrap), over the group's active
+        variables or, without a group, all active variables (MoveIt's ``RobotState::distance``)."""
+        idx = self._group(group).variable_indices
+        delta = self._q[idx] - other._q[idx]
+        cont = self._model.continuous_mask[idx]
+        if cont.any():
+            delta = np.where(cont, _wrap(delta), delta)
+        return float(np.abs(delta).sum())
+
+    def interpolate(self, other: RobotState, t: float, group: str | None = None) -> RobotState:
+        """The state ``t`` of the way from this one to ``other`` (continuous joints the short way)."""
+        delta = other._q - self._q
+        cont = self._model.continuous_mask
+        if cont.any():
+            delta = np.where(cont, _wrap(delta), delta)
+        q = self._q + t * delta
+        if group:
+            keep = np.ones(q.size, dtype=bool)
+            keep[self._group(group).variable_indices] = False
+            q[keep] = self._q[keep]
+        return RobotState(self._model, q)
+
+    def copy(self) -> RobotState:
+        """An independent copy."""
+        other = RobotState.__new__(RobotState)
+        other._model = self._model
+        other._q = self._q.copy()
+        other._fk_token = None
+        other._attached_frames = self._attached_frames
+        return other
+
+    __copy__ = copy
+
+    def __deepcopy__(self, memo):
+        return self.copy()
+
+    # ------------------------------------------------------------------ kinematics
+    def _ensure_fk(self) -> pin.Data:
+        model = self._model
+        if self._fk_token is None or model._fk_owner is not self._fk_token:
+            pin.framesForwardKinematics(model.pinocchio_model, model._data, self._q)
+            self._fk_token = object()
+            model._fk_owner = self._fk_token
+        return model._data
+
+    def get_global_link_transform(self, link: str) -> np.ndarray:
+        """4x4 pose of a link in the model (planning) frame.
+
+        Raises:
+            KeyError: unknown link, naming the links that exist.
+        """
+        fid = self._model.frame_id(link)
+        return self._ensure_fk().oMf[fid].homogeneous.copy()
+
+    def get_frame_transform(self, frame: str) -> np.ndarray:
+        """4x4 pose of a link, the model frame, or an attached object or one of its subframes
+        (``"object"`` or ``"object/subframe"``) when the state belongs to a planning scene.
+
+        Raises:
+            KeyError: unknown frame, naming the links (and attached objects) that exist.
+        """
+        if self._attached_frames is not None:
+            entry = self._attached_frames(frame)
+            if entry is not None:
+                link, offset = entry
+                return self.get_global_link_transform(link) @ offset
+        if frame in self._model._frame_ids:
+            return self.get_global_link_transform(frame)
+        raise KeyError(
+            f"unknown frame '{frame}' (links: {', '.join(self._model.link_model_names)})"
+        )
+
+    def knows_frame_transform(self, frame: str) -> bool:
+        try:
+            self.get_frame_transform(frame)
+        except KeyError:
+            return False
+        return True
+
+    def get_pose(self, link: str) -> msgs.Pose:
+        """Pose of a link in the model frame, as a ``msgs.Pose``."""
+        return msgs.matrix_to_pose(self.get_global_link_transform(link))
+
+    def get_jacobian(self, group: str, link: str, reference_point: np.ndarray | None = None) -> np.ndarray:
+        """6 x k Jacobian ``[linear; angular]`` of a point on ``link`` (default its origin), in
+        the model frame's orientation, with respect to the group's active variables. A mimic
+        joint's motion is credited to its master.
+        """
+        model = self._model
+        jmg = self._group(group)
+        fid = model.frame_id(link)
+        pm = model.pinocchio_model
+        data = self._ensure_fk()
+        pin.computeJointJacobians(pm, data, self._q)
+        J = pin.getFrameJacobian(pm, data, fid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)
+        for follower, master, multiplier, _ in model.mimic_followers:
+            J[:, master] += multiplier * J[:, follower]
+        J = J[:, jmg.variable_indices]
+        if reference_point is not None:
+            # velocity of a point offset (in the link frame) from the link origin: v + w x r
+            r = data.oMf[fid].rotation @ np.asarray(reference_point, dtype=float)
+            J = J.copy()
+            J[:3] -= np.cross(r, J[3:].T).T
+        return J
+
+    def set_from_ik(self, group: str, pose, tip: str | None = None, timeout: float | None = None, **kwargs) -> bool:
+        """Solve inverse kinematics for ``group`` so that ``tip`` (default: the group's end
+        effector tip) reaches ``pose`` (``msgs.Pose`` or 4x4 in the model frame). On success the
+        state's group variables are set; on failure the state is unchanged.
+
+        Other keyword arguments go to :func:`mtc.planners.ik.solve_ik` (e.g. ``is_valid``,
+        ``rng``, ``offset``).
+        """
+        from mtc.planners import ik  # the solver lives with the planners
+
+        return ik.set_from_ik(self, group, pose, tip=tip, timeout=timeout, **kwargs)
+
+    def _group(self, group) -> JointModelGroup:
+        return self._model.get_joint_model_group(group)
+
+    def __repr__(self) -> str:
+        values = ", ".join(f"{n}={v:.4g}" for n, v in zip(self._model.variable_names, self._q))
+        return f"RobotState({values})"
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, RobotState) and other._model is self._model and np.array_equal(self._q, other._q)
+
+    __hash__ = None
