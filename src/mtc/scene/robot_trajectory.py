@@ -1,0 +1,203 @@
+"""Robot trajectories: waypoints (robot states) of one group with times from the start.
+
+Mirrors moveit_py's ``RobotTrajectory``. Velocities and accelerations are per waypoint for the
+group's active variables; they are filled in by time parameterization and may be ``None``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mtc import msgs
+from mtc.scene.robot_model import RobotModel
+from mtc.scene.robot_state import RobotState
+
+__all__ = ["RobotTrajectory"]
+
+
+class RobotTrajectory:
+    """A sequence of robot states with times from start.
+
+    Args:
+        robot_model: the robot.
+        group_name: the planning group whose joints the trajectory moves ("" for all).
+    """
+
+    def __init__(self, robot_model: RobotModel, group_name: str = ""):
+        if not isinstance(robot_model, RobotModel):
+            raise TypeError(f"RobotTrajectory needs a RobotModel, not {type(robot_model).__name__}")
+        self._model = robot_model
+        self._group = robot_model.get_joint_model_group(group_name)
+        self.waypoints: list[RobotState] = []
+        self._durations: list[float] = []  # time from the previous waypoint [s]
+        self.velocities: np.ndarray | None = None  # N x k [rad/s, m/s]
+        self.accelerations: np.ndarray | None = None  # N x k [rad/s^2, m/s^2]
+
+    @classmethod
+    def from_positions(
+        cls,
+        robot_model: RobotModel,
+        group_name: str,
+        reference: RobotState,
+        positions: np.ndarray,
+        times: np.ndarray | None = None,
+    ) -> RobotTrajectory:
+        """A trajectory whose waypoints are ``reference`` with the group's variables set to the
+        rows of ``positions`` (N x k), at ``times`` from start (default: all 0)."""
+        traj = cls(robot_model, group_name)
+        idx = traj._group.variable_indices
+        base = reference.positions.copy()
+        times = np.zeros(len(positions)) if times is None else np.asarray(times, dtype=float)
+        previous = 0.0
+        for row, t in zip(np.asarray(positions, dtype=float), times):
+            q = base.copy()
+            q[idx] = row
+            traj.waypoints.append(RobotState(robot_model, q))
+            traj._durations.append(float(t) - previous)
+            previous = float(t)
+        return traj
+
+    # ------------------------------------------------------------------ moveit_py API
+    @property
+    def robot_model(self) -> RobotModel:
+        return self._model
+
+    @property
+    def joint_model_group_name(self) -> str:
+        return self._group.name
+
+    @property
+    def group(self):
+        return self._group
+
+    @property
+    def joint_names(self) -> list[str]:
+        """The group's active variables, the columns of ``positions``."""
+        return list(self._group.variable_names)
+
+    def __len__(self) -> int:
+        return len(self.waypoints)
+
+    def __getitem__(self, index: int) -> RobotState:
+        return self.waypoints[index]
+
+    def __iter__(self):
+        return iter(self.waypoints)
+
+    @property
+    def positions(self) -> np.ndarray:
+        """N x k positions of the group's active variables."""
+        if not self.waypoints:
+            return np.zeros((0, self._group.variable_count))
+        idx = self._group.variable_indices
+        return np.array([s._q[idx] for s in self.waypoints])
+
+    @property
+    def times(self) -> np.ndarray:
+        """Time from start of each waypoint [s]."""
+        return np.cumsum(self._durations) if self._durations else np.zeros(0)
+
+    @times.setter
+    def times(self, values) -> None:
+        values = np.asarray(values, dtype=float)
+        if values.shape != (len(self.waypoints),):
+            raise ValueError(f"times must have {len(self.waypoints)} values, got shape {values.shape}")
+        if np.any(np.diff(values) < 0):
+            raise ValueError("times must not decrease")
+        self._durations = np.diff(values, prepend=0.0).tolist()
+
+    @property
+    def duration(self) -> float:
+        """Time of the last waypoint [s]."""
+        return float(sum(self._durations))
+
+    def get_waypoint_durations(self) -> list[float]:
+        return list(self._durations)
+
+    @property
+    def first_waypoint(self) -> RobotState:
+        return self.waypoints[0]
+
+    @property
+    def last_waypoint(self) -> RobotState:
+        return self.waypoints[-1]
+
+    def add_suffix_waypoint(self, state: RobotState, dt: float = 0.0) -> None:
+        """Append a waypoint ``dt`` seconds after the current last one (the state is copied)."""
+        if not isinstance(state, RobotState):
+            raise TypeError(f"waypoints must be RobotState, not {type(state).__name__}")
+        self.waypoints.append(state.copy())
+        self._durations.append(float(dt))
+        self.velocities = self.accelerations = None
+
+    def add_prefix_waypoint(self, state: RobotState, dt: float = 0.0) -> None:
+        """Insert a waypoint at the start; the old first waypoint follows it after ``dt``."""
+        self.waypoints.insert(0, state.copy())
+        if self._durations:
+            self._durations[0] = float(dt)
+        self._durations.insert(0, 0.0)
+        self.velocities = self.accelerations = None
+
+    def append(self, other: RobotTrajectory | RobotState, dt: float = 0.0, start_index: int = 0) -> RobotTrajectory:
+        """Append another trajectory's waypoints (from ``start_index``), the first ``dt``
+        seconds after this one's end, or a single state."""
+        if isinstance(other, RobotState):
+            self.add_suffix_waypoint(other, dt)
+            return self
+        if not isinstance(other, RobotTrajectory):
+            raise TypeError(f"append takes a RobotTrajectory or RobotState, not {type(other).__name__}")
+        durations = other._durations[start_index:]
+        for k, state in enumerate(other.waypoints[start_index:]):
+            self.waypoints.append(state.copy())
+            self._durations.append(float(dt) if k == 0 else durations[k])
+        self.velocities = self.accelerations = None
+        return self
+
+    def reverse(self) -> RobotTrajectory:
+        """Reverse in place: waypoints backwards, the same gaps between them; velocities negate."""
+        self.waypoints.reverse()
+        if self._durations:
+            self._durations = [0.0, *reversed(self._durations[1:])]
+        if self.velocities is not None:
+            self.velocities = -self.velocities[::-1]
+        if self.accelerations is not None:
+            self.accelerations = self.accelerations[::-1].copy()
+        return self
+
+    def copy(self) -> RobotTrajectory:
+        other = RobotTrajectory(self._model, self._group.name)
+        other.waypoints = [s.copy() for s in self.waypoints]
+        other._durations = list(self._durations)
+        other.velocities = None if self.velocities is None else self.velocities.copy()
+        other.accelerations = None if self.accelerations is None else self.accelerations.copy()
+        return other
+
+    def clear(self) -> None:
+        self.waypoints.clear()
+        self._durations.clear()
+        self.velocities = self.accelerations = None
+
+    def get_robot_trajectory_msg(self, joint_filter=None) -> msgs.RobotTrajectory:
+        """As a ``msgs.RobotTrajectory`` over the group's active joints."""
+        names = self.joint_names if joint_filter is None else [n for n in self.joint_names if n in joint_filter]
+        cols = [self.joint_names.index(n) for n in names]
+        pos = self.positions
+        points = []
+        for i, t in enumerate(self.times):
+            point = msgs.JointTrajectoryPoint(positions=pos[i, cols].tolist(), time_from_start=float(t))
+            if self.velocities is not None:
+                point.velocities = self.velocities[i, cols].tolist()
+            if self.accelerations is not None:
+                point.accelerations = self.accelerations[i, cols].tolist()
+            points.append(point)
+        return msgs.RobotTrajectory(
+            joint_trajectory=msgs.JointTrajectory(
+                header=msgs.Header(frame_id=self._model.model_frame), joint_names=names, points=points
+            )
+        )
+
+    def __repr__(self) -> str:
+        return (
+            f"RobotTrajectory(group={self._group.name!r}, waypoints={len(self.waypoints)}, "
+            f"duration={self.duration:.3f}s)"
+        )
