@@ -305,6 +305,33 @@ def test_misspelt_field_raises():
         pose.position.X = 1.0  # type: ignore[attr-defined]
 
 
+def test_arrays_and_tuples_are_stored_as_lists():
+    """numpy arrays and tuples put in array fields become lists, so == stays a bool."""
+    q = np.array([0.1, 0.2, 0.3])
+    point = JointTrajectoryPoint(positions=q, velocities=(0.0, 0.0, 0.0))
+    assert type(point.positions) is list and type(point.velocities) is list
+    assert point == JointTrajectoryPoint(positions=[0.1, 0.2, 0.3], velocities=[0.0] * 3)
+    point.accelerations = np.zeros(3)
+    assert point.accelerations == [0.0, 0.0, 0.0]
+    q[0] = 5.0  # the message holds its own copy
+    assert point.positions[0] == 0.1
+    js = JointState(name=("a", "b"), position=np.array([1.0, 2.0]))
+    assert js == JointState(name=["a", "b"], position=[1.0, 2.0])
+    json.dumps(to_dict(js))
+
+
+def test_import_does_not_load_pinocchio():
+    """msgs is the lowest layer: importing it loads numpy only, not pinocchio."""
+    import subprocess
+    import sys
+
+    code = "import sys, mtc.msgs; print('pinocchio' in sys.modules)"
+    result = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, timeout=60
+    )
+    assert result.stdout.strip() == "False"
+
+
 def test_messages_are_not_equal_across_types():
     """Point and Vector3 with the same numbers are different messages."""
     assert Point(1, 2, 3) != Vector3(1, 2, 3)
@@ -573,7 +600,9 @@ def rich_solution() -> Solution:
     )
     diff = PlanningScene(is_diff=True)
     diff.robot_state.attached_collision_objects.append(
-        AttachedCollisionObject(link_name="panda_hand", object=box, touch_links=["panda_leftfinger"])
+        AttachedCollisionObject(
+            link_name="panda_hand", object=box, touch_links=["panda_leftfinger"]
+        )
     )
     return Solution(
         task_id="pick",
@@ -613,10 +642,14 @@ def test_to_dict_keeps_field_order_and_is_independent():
     """Dict keys follow the ROS field order; the dict shares no list with the message."""
     ps = PoseStamped(header=Header(frame_id="world"))
     assert list(to_dict(ps)) == ["header", "pose"]
-    js = JointState(name=["a"])
+    js = JointState(name=["a"], position=[1.0])
     data = to_dict(js)
     data["name"].append("b")
-    assert js.name == ["a"]
+    data["position"].append(2.0)
+    assert js.name == ["a"] and js.position == [1.0]
+    back = from_dict(JointState, data)
+    data["position"].append(3.0)
+    assert back.position == [1.0, 2.0]
 
 
 def test_to_dict_converts_numpy_values():
@@ -635,6 +668,8 @@ def test_from_dict_fills_missing_fields_with_defaults():
     assert type(ps.pose.position.x) is float
     assert from_dict(Quaternion, {}) == Quaternion()
     assert from_dict(SolidPrimitive, {"type": 1.0}).type == 1
+    dims = from_dict(SolidPrimitive, {"dimensions": [1, 2.5, 3]}).dimensions
+    assert dims == [1.0, 2.5, 3.0] and all(type(d) is float for d in dims)
 
 
 def test_from_dict_errors_name_the_path():
