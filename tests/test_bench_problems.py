@@ -1,0 +1,199 @@
+"""Tests of the benchmark problems (bench/problems.py) and the pyroboplan baseline."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+# bench/ is not part of the installed package; import it from the repository root.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from bench import problems as P  # noqa: E402
+
+FAMILIES = ["bookshelf_small", "box", "table_pick"]
+
+
+@pytest.fixture(scope="module")
+def all_problems():
+    return P.load_all()
+
+
+def test_load_all_reads_three_families_of_fifty(all_problems):
+    """Every family is found and holds problems 1..50."""
+    assert P.families() == FAMILIES
+    assert sorted(all_problems) == FAMILIES
+    for family, problems in all_problems.items():
+        assert [p.index for p in problems] == list(range(1, 51))
+        assert all(p.family == family for p in problems)
+        assert all(p.group == "panda_arm" for p in problems)
+
+
+def test_every_obstacle_has_positive_dims_and_a_rotation(all_problems):
+    """Obstacle kinds are known, dimensions positive, poses rigid transforms."""
+    for problems in all_problems.values():
+        for p in problems:
+            assert p.obstacles, p.name
+            assert len({o.name for o in p.obstacles}) == len(p.obstacles)
+            for o in p.obstacles:
+                assert o.kind in P.OBSTACLE_KINDS
+                assert len(o.dims) == {"box": 3, "cylinder": 2, "sphere": 1}[o.kind]
+                assert all(d > 0 for d in o.dims)
+                R = o.pose[:3, :3]
+                np.testing.assert_allclose(R.T @ R, np.eye(3), atol=1e-9)
+                assert np.linalg.det(R) == pytest.approx(1.0, abs=1e-9)
+                np.testing.assert_array_equal(o.pose[3], [0, 0, 0, 1])
+
+
+def test_starts_and_goals_name_the_arm_joints(all_problems):
+    """Starts carry the seven arm joints and both fingers, goals the seven arm joints."""
+    for problems in all_problems.values():
+        for p in problems:
+            assert set(P.ARM_JOINTS) <= set(p.start)
+            assert set(P.FINGER_JOINTS) <= set(p.start)
+            assert set(p.goal) == set(P.ARM_JOINTS)
+            assert p.start_arm().shape == (7,) and p.goal_arm().shape == (7,)
+
+
+def test_first_box_problem_matches_its_yaml(all_problems):
+    """Spot check against box_panda/scene0001.yaml and request0001.yaml."""
+    p = all_problems["box"][0]
+    can = next(o for o in p.obstacles if o.name == "Can1")
+    assert can.kind == "cylinder" and can.dims == (0.14, 0.03)
+    np.testing.assert_allclose(can.pose[:3, 3], [0.5408380884576693, 0.3580155146897772, -0.3762264457751537])
+    # orientation [0, 0, 0.0741, 0.9973] in [x, y, z, w] order: a yaw of 2*asin(0.0741) about z
+    yaw = 2 * np.arcsin(0.07406844364750122)
+    np.testing.assert_allclose(can.pose[:3, :3] @ [1, 0, 0], [np.cos(yaw), np.sin(yaw), 0], atol=1e-9)
+    np.testing.assert_allclose(p.start_arm(), [0, -0.785, 0, -2.356, 0, 1.571, 0.785])
+    assert p.goal["panda_joint1"] == pytest.approx(0.4534448383669427)
+    assert ("panda_hand", "panda_leftfinger") in p.allowed_collisions
+    assert ("panda_link0", "panda_link5") not in p.allowed_collisions
+
+
+def test_limit_violations_are_the_two_table_pick_goals(all_problems):
+    """Only table_pick 31 and 49 have a goal outside example-robot-data's joint 4 limit."""
+    bad = {p.name: P.limit_violations(p) for ps in all_problems.values() for p in ps if P.limit_violations(p)}
+    assert sorted(bad) == ["table_pick/0031", "table_pick/0049"]
+    assert all(len(v) == 1 and v[0].startswith("goal panda_joint4=") for v in bad.values())
+
+
+def test_unknown_family_names_the_choices():
+    """A misspelt family lists the families there are."""
+    with pytest.raises(ValueError, match="unknown MotionBenchMaker family 'boxes'.*bookshelf_small, box, table_pick"):
+        P.load_family("boxes")
+
+
+def test_folder_names_are_accepted_as_family_names():
+    """'box_panda' loads the same problems as 'box'."""
+    assert [p.name for p in P.load_family("box_panda")[:2]] == ["box/0001", "box/0002"]
+
+
+def test_obstacle_rejects_bad_dimensions():
+    """A cylinder with a zero radius is refused with its name."""
+    with pytest.raises(ValueError, match="obstacle 'c': dimensions must be positive"):
+        P.Obstacle("c", "cylinder", (0.1, 0.0), np.eye(4))
+    with pytest.raises(ValueError, match="unknown kind 'cone'"):
+        P.Obstacle("c", "cone", (0.1,), np.eye(4))
+
+
+def test_quaternion_order_is_xyzw():
+    """[0, 0, sin(a/2), cos(a/2)] is a rotation by a about z."""
+    a = 0.7
+    R = P.quaternion_to_matrix([0, 0, np.sin(a / 2), np.cos(a / 2)])
+    np.testing.assert_allclose(R, [[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]], atol=1e-12)
+
+
+def test_table_shelf_world_is_within_reach():
+    """Positive boxes; the table top and every shelf part have a point within 0.85 m of the shoulder."""
+    world = P.table_shelf_world()
+    assert {o.kind for o in world} == {"box"}
+    assert all(min(o.dims) > 0 for o in world)
+    shoulder = np.array([0.0, 0.0, 0.333])  # panda_joint2's axis height
+    for o in world:
+        np.testing.assert_allclose(o.pose[:3, :3], np.eye(3))  # axis-aligned, so clamping finds the nearest point
+        half = np.array(o.dims) / 2
+        nearest = np.clip(shoulder, o.pose[:3, 3] - half, o.pose[:3, 3] + half)
+        if o.name == "table_top" or o.name.startswith("shelf"):
+            assert np.linalg.norm(nearest - shoulder) < 0.85, o.name
+
+
+def test_table_shelf_problems_are_deterministic_for_a_seed():
+    """Same seed, same pairs; another seed, other pairs; all inside the limits and far enough apart."""
+    always = lambda q: True  # noqa: E731
+    a = P.table_shelf_problems(5, seed=3, is_valid=always)
+    b = P.table_shelf_problems(5, seed=3, is_valid=always)
+    c = P.table_shelf_problems(5, seed=4, is_valid=always)
+    assert [p.start for p in a] == [p.start for p in b] and [p.goal for p in a] == [p.goal for p in b]
+    assert [p.start for p in a] != [p.start for p in c]
+    limits = P.panda_joint_limits()
+    for p in a:
+        assert p.family == "table_shelf" and p.start["panda_finger_joint1"] == 0.04
+        assert not P.limit_violations(p, limits)
+        assert np.linalg.norm(p.goal_arm() - p.start_arm()) >= 1.0
+
+
+def test_table_shelf_sampling_honours_the_validity_callable():
+    """Only configurations that is_valid accepts are returned."""
+    ps = P.table_shelf_problems(4, seed=0, is_valid=lambda q: q[0] > 1.0 and q[3] < -1.5)
+    for p in ps:
+        for q in (p.start_arm(), p.goal_arm()):
+            assert q[0] > 1.0 and q[3] < -1.5
+
+
+def test_sampling_gives_up_with_a_clear_error():
+    """A validity callable that accepts nothing ends in a RuntimeError, not a hang."""
+    with pytest.raises(RuntimeError, match="no valid arm configuration in 50 uniform draws"):
+        P.sample_valid_state(lambda q: False, np.random.default_rng(0), max_tries=50)
+
+
+# --- pyroboplan baseline (bench-only extra) ------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def baseline():
+    pytest.importorskip("pyroboplan.planning.rrt")
+    from bench import baseline_pyroboplan
+
+    return baseline_pyroboplan
+
+
+def test_baseline_solves_an_easy_problem(baseline, all_problems):
+    """box/0002 (solved in well under a second at seed 0) is solved within a short timeout."""
+    p = all_problems["box"][1]
+    r = baseline.plan_pyroboplan(p, timeout=5.0, seed=0)
+    assert r["success"] and r["status"] == "solved", r["status"]
+    assert r["n_waypoints"] >= 2 and 0 < r["time_s"] < 30
+    np.testing.assert_allclose(r["path"][0], p.start_arm())
+    np.testing.assert_allclose(r["path"][-1], p.goal_arm())
+    assert r["path_length"] >= np.linalg.norm(p.goal_arm() - p.start_arm()) - 1e-9
+    assert r["path_length"] == pytest.approx(baseline.path_length(r["path"]))
+
+
+def test_baseline_reports_out_of_limit_problems_without_planning(baseline, all_problems):
+    """table_pick/0031's goal is outside the limits: reported invalid, not planned."""
+    r = baseline.plan_pyroboplan(all_problems["table_pick"][30], timeout=5.0)
+    assert not r["success"] and r["status"].startswith("invalid: goal panda_joint4=")
+    assert r["time_s"] == 0.0
+
+
+def test_baseline_checker_sees_obstacles_and_problem_states(baseline, all_problems):
+    """MBM starts/goals are free; a box around the ready pose's hand makes that pose invalid."""
+    p = all_problems["table_pick"][0]
+    is_valid = baseline.validity_checker(p.obstacles, 0.04, p.allowed_collisions)
+    assert is_valid(p.start_arm()) and is_valid(p.goal_arm())
+    ready = np.array([0, -0.785, 0, -2.356, 0, 1.571, 0.785])
+    T = np.eye(4)
+    T[:3, 3] = [0.307, 0.0, 0.59]  # panda_hand origin at the ready pose
+    blocked = baseline.validity_checker([P.Obstacle("block", "box", (0.2, 0.2, 0.2), T)])
+    assert not blocked(ready)
+    assert baseline.validity_checker([])(ready)
+
+
+def test_table_shelf_problems_with_the_baseline_checker(baseline):
+    """The ready pose is free in the table-shelf world, and sampled pairs pass the checker."""
+    is_valid = baseline.validity_checker(P.table_shelf_world())
+    assert is_valid(np.array([0, -0.785, 0, -2.356, 0, 1.571, 0.785]))
+    ps = P.table_shelf_problems(3, seed=0, is_valid=is_valid)
+    assert all(is_valid(p.start_arm()) and is_valid(p.goal_arm()) for p in ps)
