@@ -1,0 +1,200 @@
+"""The process-wide *current scene* and ``PlanningSceneInterface``.
+
+Without ROS there is no ``move_group`` holding the monitored planning scene. ``mtc`` keeps one
+scene per process in its place: ``CurrentState`` stages read it, ``PlanningSceneInterface``
+edits it (as moveit_commander's class edits move_group's scene) and ``task.execute()`` moves it
+on. It starts with the robot in its ``ready`` and ``open`` named states (where the SRDF has
+them) and an empty world.
+"""
+
+from __future__ import annotations
+
+import threading
+from collections.abc import Iterable
+
+from mtc import msgs
+from mtc.scene.planning_scene import PlanningScene, mesh_file_to_msg
+from mtc.scene.robot_model import RobotModel
+
+__all__ = ["current_scene", "reset_current_scene", "set_current_scene", "PlanningSceneInterface"]
+
+_lock = threading.RLock()
+_current: PlanningScene | None = None
+
+#: named states the current scene starts in, where the robot's SRDF defines them
+START_STATES = ("ready", "open")
+
+
+def _initial_scene(robot_model: RobotModel) -> PlanningScene:
+    scene = PlanningScene(robot_model)
+    state = scene.current_state
+    for group in robot_model.joint_model_group_names:
+        for name in START_STATES:
+            if name in robot_model.group_state_names(group):
+                state.set_to_default_values(group, name)
+    return scene
+
+
+def current_scene(robot_model: RobotModel | None = None) -> PlanningScene:
+    """The current scene (the object itself). Created on first use for ``robot_model``
+    (default: the bundled Panda); asking for another robot model starts a new current scene."""
+    global _current
+    with _lock:
+        if robot_model is not None and not isinstance(robot_model, RobotModel):
+            raise TypeError(f"robot_model must be a RobotModel, not {type(robot_model).__name__}")
+        if _current is None or (robot_model is not None and _current.robot_model is not robot_model):
+            if robot_model is None:
+                from mtc.robots import panda
+
+                robot_model = panda()
+            _current = _initial_scene(robot_model)
+        return _current
+
+
+def set_current_scene(scene: PlanningScene) -> None:
+    """Make ``scene`` the current scene (``task.execute()`` does this with a solution's end)."""
+    global _current
+    if not isinstance(scene, PlanningScene):
+        raise TypeError(f"the current scene must be a PlanningScene, not {type(scene).__name__}")
+    with _lock:
+        _current = scene
+
+
+def reset_current_scene() -> None:
+    """Forget the current scene; the next use starts a fresh one."""
+    global _current
+    with _lock:
+        _current = None
+
+
+def _pose_stamped(pose, what: str) -> msgs.PoseStamped:
+    if isinstance(pose, msgs.PoseStamped):
+        return pose
+    if isinstance(pose, msgs.Pose):
+        return msgs.PoseStamped(pose=pose)
+    raise TypeError(f"{what}: pose must be a msgs.PoseStamped or msgs.Pose, not {type(pose).__name__}")
+
+
+def _primitive_object(name: str, pose, kind: int, dims: Iterable[float]) -> msgs.CollisionObject:
+    ps = _pose_stamped(pose, f"object '{name}'")
+    return msgs.CollisionObject(
+        header=msgs.Header(frame_id=ps.header.frame_id),
+        pose=ps.pose,
+        id=name,
+        primitives=[msgs.SolidPrimitive(type=kind, dimensions=[float(d) for d in dims])],
+        primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+        operation=msgs.CollisionObject.ADD,
+    )
+
+
+class PlanningSceneInterface:
+    """Edit the current scene, as moveit_commander's ``PlanningSceneInterface`` edits
+    move_group's. ``ns`` and ``synchronous`` are accepted for compatibility (edits are always
+    immediate)."""
+
+    def __init__(self, ns: str = "", synchronous: bool = False, robot_model: RobotModel | None = None):
+        self.ns = ns
+        self.synchronous = synchronous
+        self._model = robot_model
+
+    @property
+    def scene(self) -> PlanningScene:
+        return current_scene(self._model)
+
+    # ---------------------------------------------------------------- world objects
+    def add_object(self, collision_object: msgs.CollisionObject) -> None:
+        """Apply a CollisionObject message (any operation) to the current scene."""
+        self.scene.apply_collision_object(collision_object)
+
+    def add_box(self, name: str, pose, size=(1.0, 1.0, 1.0)) -> None:
+        """A box of full extents ``size`` [m] centred at ``pose`` (PoseStamped)."""
+        self.add_object(_primitive_object(name, pose, msgs.SolidPrimitive.BOX, size))
+
+    def add_sphere(self, name: str, pose, radius: float = 1.0) -> None:
+        self.add_object(_primitive_object(name, pose, msgs.SolidPrimitive.SPHERE, [radius]))
+
+    def add_cylinder(self, name: str, pose, height: float, radius: float) -> None:
+        """A cylinder along the pose's z axis, ``height`` and ``radius`` [m]."""
+        self.add_object(_primitive_object(name, pose, msgs.SolidPrimitive.CYLINDER, [height, radius]))
+
+    def add_cone(self, name: str, pose, height: float, radius: float) -> None:
+        self.add_object(_primitive_object(name, pose, msgs.SolidPrimitive.CONE, [height, radius]))
+
+    def add_mesh(self, name: str, pose, filename: str, size=(1.0, 1.0, 1.0)) -> None:
+        """A mesh loaded from ``filename`` (STL, OBJ, DAE ...), scaled by ``size``."""
+        ps = _pose_stamped(pose, f"object '{name}'")
+        mesh = mesh_file_to_msg(filename, size)
+        self.add_object(
+            msgs.CollisionObject(
+                header=msgs.Header(frame_id=ps.header.frame_id),
+                pose=ps.pose,
+                id=name,
+                meshes=[mesh],
+                mesh_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+            )
+        )
+
+    def remove_world_object(self, name: str | None = None) -> None:
+        """Remove the world object ``name``, or every world object with ``None``.
+
+        Raises:
+            KeyError: unknown object.
+        """
+        self.add_object(msgs.CollisionObject(id=name or "", operation=msgs.CollisionObject.REMOVE))
+
+    def clear(self) -> None:
+        """Detach every attached object and remove every world object."""
+        self.remove_attached_object()
+        self.remove_world_object()
+
+    # ---------------------------------------------------------------- attached objects
+    def attach_object(self, attached: msgs.AttachedCollisionObject) -> None:
+        self.scene.apply_attached_collision_object(attached)
+
+    def attach_box(self, link: str, name: str, pose=None, size=(1.0, 1.0, 1.0), touch_links=()) -> None:
+        """Attach a new box to ``link`` (pose default: the link's origin)."""
+        pose = msgs.PoseStamped(header=msgs.Header(frame_id=link)) if pose is None else pose
+        obj = _primitive_object(name, pose, msgs.SolidPrimitive.BOX, size)
+        obj.header.frame_id = obj.header.frame_id or link
+        self.attach_object(msgs.AttachedCollisionObject(link_name=link, object=obj, touch_links=list(touch_links)))
+
+    def attach_mesh(self, link: str, name: str, pose=None, filename: str = "", size=(1.0, 1.0, 1.0), touch_links=()) -> None:
+        """Attach a mesh loaded from ``filename`` to ``link``."""
+        ps = msgs.PoseStamped(header=msgs.Header(frame_id=link)) if pose is None else _pose_stamped(pose, name)
+        obj = msgs.CollisionObject(
+            header=msgs.Header(frame_id=ps.header.frame_id or link),
+            pose=ps.pose,
+            id=name,
+            meshes=[mesh_file_to_msg(filename, size)],
+            mesh_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+        )
+        self.attach_object(msgs.AttachedCollisionObject(link_name=link, object=obj, touch_links=list(touch_links)))
+
+    def remove_attached_object(self, link: str | None = None, name: str | None = None) -> None:
+        """Detach ``name`` (or every object of ``link``, or every object); detached objects
+        stay in the world where they are."""
+        obj = msgs.CollisionObject(id=name or "", operation=msgs.CollisionObject.REMOVE)
+        self.attach_object(msgs.AttachedCollisionObject(link_name=link or "", object=obj))
+
+    # ---------------------------------------------------------------- queries
+    def get_known_object_names(self, with_type: bool = False) -> list[str]:
+        """Names of the world and attached objects."""
+        scene = self.scene
+        return [*scene.world_object_names, *scene.attached_object_names]
+
+    def get_objects(self, object_ids: Iterable[str] = ()) -> dict[str, msgs.CollisionObject]:
+        """World objects as messages (all, or those named)."""
+        scene = self.scene
+        names = list(object_ids) or scene.world_object_names
+        return {n: scene.get_collision_object_msg(n) for n in names if n in scene.world_object_names}
+
+    def get_attached_objects(self, object_ids: Iterable[str] = ()) -> dict[str, msgs.AttachedCollisionObject]:
+        """Attached objects as messages (all, or those named)."""
+        scene = self.scene
+        names = list(object_ids) or scene.attached_object_names
+        return {n: scene.get_attached_collision_object_msg(n) for n in names if n in scene.attached_object_names}
+
+    def get_object_poses(self, object_ids: Iterable[str]) -> dict[str, msgs.Pose]:
+        """World poses of the named (world or attached) objects."""
+        scene = self.scene
+        return {n: msgs.matrix_to_pose(scene.get_frame_transform(n)) for n in object_ids if scene.has_object(n)}
