@@ -90,6 +90,19 @@ def test_folder_names_are_accepted_as_family_names():
     assert [p.name for p in P.load_family("box_panda")[:2]] == ["box/0001", "box/0002"]
 
 
+def test_root_comes_from_mtc_mbm_dir(tmp_path, monkeypatch):
+    """MTC_MBM_DIR points the loader at another copy; only the problems there are loaded."""
+    import shutil
+
+    (tmp_path / "box_panda").mkdir()
+    for name in ("scene0007.yaml", "request0007.yaml"):
+        shutil.copy(P.default_root() / "box_panda" / name, tmp_path / "box_panda" / name)
+    monkeypatch.setenv("MTC_MBM_DIR", str(tmp_path))
+    assert P.default_root() == tmp_path
+    assert P.families() == ["box"]
+    assert [p.name for p in P.load_all()["box"]] == ["box/0007"]
+
+
 def test_obstacle_rejects_bad_dimensions():
     """A cylinder with a zero radius is refused with its name."""
     with pytest.raises(ValueError, match="obstacle 'c': dimensions must be positive"):
@@ -169,6 +182,9 @@ def test_baseline_solves_an_easy_problem(baseline, all_problems):
     np.testing.assert_allclose(r["path"][-1], p.goal_arm())
     assert r["path_length"] >= np.linalg.norm(p.goal_arm() - p.start_arm()) - 1e-9
     assert r["path_length"] == pytest.approx(baseline.path_length(r["path"]))
+    again = baseline.plan_pyroboplan(p, timeout=5.0, seed=0)
+    assert len(again["path"]) == len(r["path"])
+    np.testing.assert_allclose(np.array(again["path"]), np.array(r["path"]))  # same seed, same tree
 
 
 def test_baseline_reports_out_of_limit_problems_without_planning(baseline, all_problems):
