@@ -1,0 +1,576 @@
+"""Kinematic constraints: joint, position and orientation constraints as MoveIt evaluates them.
+
+A :class:`KinematicConstraintSet` is built from a ``msgs.Constraints`` message (MoveIt's
+``kinematic_constraints::KinematicConstraintSet``). It answers whether a robot state satisfies
+every constraint, and how far it is from doing so. Planners use :meth:`KinematicConstraintSet.bind`
+to get a fast evaluator on raw joint vectors (no ``RobotState`` per check), with its own
+Pinocchio data.
+
+Semantics (MoveIt's ``kinematic_constraints.cpp``):
+
+* ``JointConstraint``: ``position - tolerance_below <= q <= position + tolerance_above``;
+  continuous joints compare the wrapped difference.
+* ``PositionConstraint``: the point ``target_point_offset`` (in the link frame) of
+  ``link_name`` lies inside one of the ``constraint_region`` primitives (box, sphere,
+  cylinder) placed at ``primitive_poses`` in the ``header.frame_id`` frame.
+* ``OrientationConstraint``: the rotation from the target orientation (in ``header.frame_id``)
+  to the link's orientation, ``R_target^T R_link``, has each component within its
+  ``absolute_{x,y,z}_axis_tolerance``. ``XYZ_EULER_ANGLES`` (default) reads the components as
+  intrinsic x-y-z Euler angles, taking the solution with the middle angle in [-pi/2, pi/2]
+  (MoveIt folds Eigen's angles with ``min(|a|, pi - |a|)``, which also accepts half turns; this
+  port does not); ``ROTATION_VECTOR`` reads them as the rotation vector (axis * angle).
+
+``link_name`` may name a robot link, an attached object or an attached object's subframe
+(``"object/subframe"``); header frames may name those, a world object (or its subframe) or the
+planning frame. Frames that move with the robot are evaluated at the state being checked; world
+frames through the planning scene.
+
+Constraint weights only scale :meth:`KinematicConstraintSet.distance`; a weight near zero is
+read as 1.0, as MoveIt does. Visibility constraints are not supported (a ``ValueError`` says so).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from mtc import msgs
+from mtc.scene.robot_model import RobotModel
+from mtc.scene.robot_state import RobotState
+
+__all__ = [
+    "KinematicConstraintSet",
+    "ConstraintEvaluator",
+    "euler_xyz",
+    "rotation_vector",
+]
+
+# Slack on every comparison, so a state placed exactly on a tolerance boundary (e.g. by
+# interpolation or projection) counts as satisfying it.
+_EPS = 1e-9
+_WEIGHT_EPS = np.finfo(float).eps
+
+
+def euler_xyz(R: np.ndarray) -> np.ndarray:
+    """Intrinsic x-y-z Euler angles ``(a, b, c)`` with ``R = Rx(a) Ry(b) Rz(c)``, ``b`` in
+    [-pi/2, pi/2] and ``a``, ``c`` in [-pi, pi] [rad]."""
+    return np.array(_euler_xyz_list(np.asarray(R, dtype=float).tolist()))
+
+
+def _euler_xyz_list(R: list) -> tuple[float, float, float]:
+    # on nested lists: plain float arithmetic is several times faster than numpy for 3x3
+    sb = min(1.0, max(-1.0, R[0][2]))
+    b = math.asin(sb)
+    if abs(sb) < 1.0 - 1e-12:
+        a = math.atan2(-R[1][2], R[2][2])
+        c = math.atan2(-R[0][1], R[0][0])
+    else:  # gimbal lock: only a + c (or a - c) is defined; put it all in a
+        a = math.atan2(R[2][1], R[1][1])
+        c = 0.0
+    return a, b, c
+
+
+def rotation_vector(R: np.ndarray) -> np.ndarray:
+    """The rotation vector (axis * angle, angle in [0, pi]) of a rotation matrix [rad]."""
+    return np.asarray(pin.log3(np.ascontiguousarray(R)), dtype=float)
+
+
+def _weight(w: float) -> float:
+    return 1.0 if w <= _WEIGHT_EPS else float(w)
+
+
+def _is_zero_quaternion(q: msgs.Quaternion) -> bool:
+    return q.x == 0.0 and q.y == 0.0 and q.z == 0.0 and q.w == 0.0
+
+
+# ---------------------------------------------------------------------------------------------
+# Parsed constraints
+
+
+@dataclass(frozen=True)
+class _Joint:
+    name: str
+    index: int
+    position: float
+    above: float
+    below: float
+    continuous: bool
+    weight: float
+
+    def error(self, q: np.ndarray) -> float:
+        """Signed difference of the joint from its target [rad or m]."""
+        d = q[self.index] - self.position
+        if self.continuous:
+            d = (d + math.pi) % (2 * math.pi) - math.pi
+        return d
+
+    def violation(self, q: np.ndarray) -> float:
+        d = self.error(q)
+        if d > self.above + _EPS:
+            return d - self.above
+        if d < -self.below - _EPS:
+            return -self.below - d
+        return 0.0
+
+
+@dataclass(frozen=True)
+class _Region:
+    """One primitive of a position constraint's region, in the header frame."""
+
+    kind: int
+    dims: tuple  # box: half extents; sphere: (radius,); cylinder: (half height, radius)
+    pose_inv: pin.SE3  # header frame -> primitive frame
+
+    def outside(self, p) -> float:
+        """Distance [m] of point ``p`` (header frame) outside the primitive, 0 inside."""
+        return self.outside_local(self.pose_inv.act(np.asarray(p, dtype=float)))
+
+    def outside_local(self, local) -> float:
+        """As :meth:`outside` for a point already in the primitive's frame."""
+        x, y, z = local.tolist()
+        d = self.dims
+        if self.kind == msgs.SolidPrimitive.BOX:
+            ex = max(abs(x) - d[0], 0.0)
+            ey = max(abs(y) - d[1], 0.0)
+            ez = max(abs(z) - d[2], 0.0)
+            return math.sqrt(ex * ex + ey * ey + ez * ez)
+        if self.kind == msgs.SolidPrimitive.SPHERE:
+            return max(0.0, math.sqrt(x * x + y * y + z * z) - d[0])
+        # cylinder: axis z
+        radial = max(0.0, math.hypot(x, y) - d[1])
+        axial = max(0.0, abs(z) - d[0])
+        return math.hypot(radial, axial)
+
+
+@dataclass(frozen=True)
+class _Position:
+    link: str
+    offset: np.ndarray  # point in the link frame (3,)
+    frame: str
+    regions: tuple
+    weight: float
+
+
+@dataclass(frozen=True)
+class _Orientation:
+    link: str
+    frame: str
+    target: np.ndarray  # 3x3 rotation in the header frame
+    tolerances: np.ndarray  # (3,)
+    parameterization: int
+    weight: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "_tol", tuple(self.tolerances.tolist()))
+
+    def errors(self, R_frame: np.ndarray, R_link: np.ndarray) -> np.ndarray:
+        """Absolute x, y, z error components of the link orientation [rad]."""
+        return self.diff_errors((R_frame @ self.target).T @ R_link)
+
+    def diff_errors(self, diff: np.ndarray) -> np.ndarray:
+        """Absolute error components of the rotation ``diff`` from the target to the link."""
+        if self.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
+            return np.abs(rotation_vector(diff))
+        return np.abs(euler_xyz(diff))
+
+    def violation(self, R_frame: np.ndarray, R_link: np.ndarray) -> float:
+        return self.diff_violation((R_frame @ self.target).T @ R_link)
+
+    def diff_violation(self, diff: np.ndarray) -> float:
+        if self.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
+            ex, ey, ez = np.abs(rotation_vector(diff)).tolist()
+        else:
+            ex, ey, ez = _euler_xyz_list(diff.tolist())
+            ex, ey, ez = abs(ex), abs(ey), abs(ez)
+        tx, ty, tz = self._tol
+        return max(ex - tx - _EPS, 0.0) + max(ey - ty - _EPS, 0.0) + max(ez - tz - _EPS, 0.0)
+
+
+def _parse_region(pc: msgs.PositionConstraint, where: str) -> tuple:
+    volume = pc.constraint_region
+    if volume.meshes:
+        raise ValueError(f"{where}: mesh regions are not supported (use box, sphere or cylinder primitives)")
+    if not volume.primitives:
+        raise ValueError(f"{where}: constraint_region has no primitives")
+    if len(volume.primitive_poses) != len(volume.primitives):
+        raise ValueError(
+            f"{where}: constraint_region has {len(volume.primitives)} primitives but "
+            f"{len(volume.primitive_poses)} primitive_poses"
+        )
+    regions = []
+    for k, (prim, pose) in enumerate(zip(volume.primitives, volume.primitive_poses)):
+        dims = [float(d) for d in prim.dimensions]
+        if prim.type == msgs.SolidPrimitive.BOX and len(dims) == 3:
+            half = tuple(d / 2 for d in dims)
+        elif prim.type == msgs.SolidPrimitive.SPHERE and len(dims) == 1:
+            half = (dims[0],)
+        elif prim.type == msgs.SolidPrimitive.CYLINDER and len(dims) == 2:
+            half = (dims[0] / 2, dims[1])
+        else:
+            raise ValueError(
+                f"{where}: primitive {k} must be a BOX [x, y, z], SPHERE [radius] or CYLINDER "
+                f"[height, radius], got type {prim.type} with dimensions {dims}"
+            )
+        if not all(np.isfinite(d) and d >= 0 for d in dims):
+            raise ValueError(f"{where}: primitive {k} has invalid dimensions {dims}")
+        T = msgs.pose_to_matrix(pose)
+        regions.append(_Region(int(prim.type), tuple(half), pin.SE3(T).inverse()))
+    return tuple(regions)
+
+
+# ---------------------------------------------------------------------------------------------
+# Frame resolution
+
+
+class _FrameResolver:
+    """Turns frame names into either a fixed 4x4 (world frames) or (pinocchio frame id, offset)
+    of a frame that moves with the robot."""
+
+    def __init__(self, model: RobotModel, scene=None):
+        self.model = model
+        self.scene = scene
+
+    def resolve(self, frame: str, what: str):
+        model = self.model
+        if frame in ("", model.model_frame):
+            return ("fixed", np.eye(4))
+        if model.has_link_model(frame):
+            return ("link", model.frame_id(frame), np.eye(4))
+        scene = self.scene
+        if scene is None:
+            raise KeyError(
+                f"{what}: frame '{frame}' is not a link of robot '{model.name}'; objects need a planning "
+                f"scene (links: {', '.join(model.link_model_names)})"
+            )
+        name, _, sub = frame.partition("/")
+        if name in scene.attached_object_names:
+            att = scene.get_attached_object(name)
+            offset = att.object.pose
+            if sub:
+                if sub not in att.object.subframe_poses:
+                    raise KeyError(
+                        f"{what}: attached object '{name}' has no subframe '{sub}' "
+                        f"(subframes: {', '.join(att.object.subframe_poses) or 'none'})"
+                    )
+                offset = offset @ att.object.subframe_poses[sub]
+            return ("link", model.frame_id(att.link), offset)
+        try:
+            return ("fixed", scene.get_frame_transform(frame))
+        except KeyError as e:
+            raise KeyError(f"{what}: {e.args[0] if e.args else e}") from None
+
+
+# ---------------------------------------------------------------------------------------------
+# The set
+
+
+class KinematicConstraintSet:
+    """Joint, position and orientation constraints that must all hold.
+
+    Args:
+        robot_model: the robot.
+        constraints: the constraints; ``None`` or an empty message is the empty set (always
+            satisfied).
+
+    Raises:
+        KeyError: a joint constraint names a joint the robot does not have.
+        ValueError: a tolerance is negative or not finite, a region is malformed, a
+            constraint has no link, or the message has visibility constraints.
+    """
+
+    def __init__(self, robot_model: RobotModel, constraints: msgs.Constraints | None = None):
+        if not isinstance(robot_model, RobotModel):
+            raise TypeError(f"KinematicConstraintSet needs a RobotModel, not {type(robot_model).__name__}")
+        if constraints is not None and not isinstance(constraints, msgs.Constraints):
+            raise TypeError(f"constraints must be msgs.Constraints or None, not {type(constraints).__name__}")
+        self._model = robot_model
+        self.constraints = constraints if constraints is not None else msgs.Constraints()
+        c = self.constraints
+        self.name = c.name
+        if c.visibility_constraints:
+            raise ValueError("visibility constraints are not supported (joint, position and orientation are)")
+        self._joints = tuple(self._parse_joint(jc, k) for k, jc in enumerate(c.joint_constraints))
+        self._positions = tuple(self._parse_position(pc, k) for k, pc in enumerate(c.position_constraints))
+        self._orientations = tuple(self._parse_orientation(oc, k) for k, oc in enumerate(c.orientation_constraints))
+
+    # ------------------------------------------------------------------ parsing
+    def _parse_joint(self, jc: msgs.JointConstraint, k: int) -> _Joint:
+        where = f"joint constraint {k} ('{jc.joint_name}')"
+        model = self._model
+        try:
+            index = model.variable_index(jc.joint_name)
+        except KeyError:
+            raise KeyError(
+                f"{where}: unknown joint (joints: {', '.join(model.variable_names)})"
+            ) from None
+        above, below = float(jc.tolerance_above), float(jc.tolerance_below)
+        for label, tol in (("tolerance_above", above), ("tolerance_below", below)):
+            if not np.isfinite(tol) or tol < 0:
+                raise ValueError(f"{where}: {label} must be a finite value >= 0, got {tol}")
+        position = float(jc.position)
+        if not np.isfinite(position):
+            raise ValueError(f"{where}: position must be finite, got {position}")
+        continuous = bool(model.continuous_mask[index])
+        if continuous:
+            position = (position + math.pi) % (2 * math.pi) - math.pi
+        return _Joint(jc.joint_name, index, position, above, below, continuous, _weight(jc.weight))
+
+    def _check_link(self, link: str, where: str) -> None:
+        if not link:
+            raise ValueError(f"{where}: link_name is empty")
+
+    def _parse_position(self, pc: msgs.PositionConstraint, k: int) -> _Position:
+        where = f"position constraint {k} ('{pc.link_name}')"
+        self._check_link(pc.link_name, where)
+        o = pc.target_point_offset
+        offset = np.array([o.x, o.y, o.z], dtype=float)
+        if not np.all(np.isfinite(offset)):
+            raise ValueError(f"{where}: target_point_offset must be finite")
+        return _Position(pc.link_name, offset, pc.header.frame_id, _parse_region(pc, where), _weight(pc.weight))
+
+    def _parse_orientation(self, oc: msgs.OrientationConstraint, k: int) -> _Orientation:
+        where = f"orientation constraint {k} ('{oc.link_name}')"
+        self._check_link(oc.link_name, where)
+        tol = np.array(
+            [oc.absolute_x_axis_tolerance, oc.absolute_y_axis_tolerance, oc.absolute_z_axis_tolerance], dtype=float
+        )
+        if not np.all(np.isfinite(tol)) or np.any(tol < 0):
+            raise ValueError(f"{where}: axis tolerances must be finite values >= 0, got {tol.tolist()}")
+        if oc.parameterization not in (
+            msgs.OrientationConstraint.XYZ_EULER_ANGLES,
+            msgs.OrientationConstraint.ROTATION_VECTOR,
+        ):
+            raise ValueError(
+                f"{where}: unknown parameterization {oc.parameterization} "
+                "(XYZ_EULER_ANGLES=0, ROTATION_VECTOR=1)"
+            )
+        target = np.eye(3) if _is_zero_quaternion(oc.orientation) else msgs.quaternion_to_matrix(oc.orientation)
+        return _Orientation(
+            oc.link_name, oc.header.frame_id, target, tol, int(oc.parameterization), _weight(oc.weight)
+        )
+
+    # ------------------------------------------------------------------ queries
+    @property
+    def robot_model(self) -> RobotModel:
+        return self._model
+
+    @property
+    def empty(self) -> bool:
+        """True when there is nothing to check."""
+        return not (self._joints or self._positions or self._orientations)
+
+    @property
+    def has_link_constraints(self) -> bool:
+        """True when there are position or orientation constraints (which need kinematics)."""
+        return bool(self._positions or self._orientations)
+
+    def __len__(self) -> int:
+        return len(self._joints) + len(self._positions) + len(self._orientations)
+
+    def joint_bounds(self) -> dict[int, tuple[float, float]]:
+        """Variable index -> (lower, upper) allowed by the joint constraints, intersected with the
+        model's bounds (for samplers). Continuous joints are left out when their interval wraps."""
+        model = self._model
+        out: dict[int, tuple[float, float]] = {}
+        for j in self._joints:
+            lo, hi = j.position - j.below, j.position + j.above
+            if j.continuous and (lo < -math.pi or hi > math.pi):
+                continue
+            lo = max(lo, model.lower_bounds[j.index])
+            hi = min(hi, model.upper_bounds[j.index])
+            prev = out.get(j.index)
+            if prev is not None:
+                lo, hi = max(lo, prev[0]), min(hi, prev[1])
+            out[j.index] = (float(lo), float(hi))
+        return out
+
+    def bind(self, scene=None) -> ConstraintEvaluator:
+        """A fast evaluator on full joint vectors, with frames resolved through ``scene``
+        (world frames are fixed as the scene has them now).
+
+        Raises:
+            KeyError: a link or frame is unknown to the robot and the scene.
+        """
+        return ConstraintEvaluator(self, scene)
+
+    def satisfied(self, state: RobotState, scene=None) -> bool:
+        """Whether ``state`` satisfies every constraint.
+
+        Args:
+            state: the robot state.
+            scene: planning scene resolving object frames (default: the frames the state knows:
+                links and, for a scene's state, attached objects).
+        """
+        return self.distance(state, scene) == 0.0
+
+    def distance(self, state: RobotState, scene=None) -> float:
+        """Weighted sum of how far ``state`` is outside each constraint's tolerance (0 when
+        every constraint holds): [rad] for joint and orientation, [m] for position."""
+        if not isinstance(state, RobotState):
+            raise TypeError(f"state must be a RobotState, not {type(state).__name__}")
+        if self.empty:
+            return 0.0
+        if scene is not None or not self.has_link_constraints:
+            return self.bind(scene).violation(state.positions)
+        return self._state_violation(state)
+
+    def violations(self, state: RobotState, scene=None) -> list[str]:
+        """One line per violated constraint (empty when all hold), for failure messages."""
+        if self.empty:
+            return []
+        if scene is not None or not self.has_link_constraints:
+            return self.bind(scene).describe(state.positions)
+        return self._state_describe(state)
+
+    # slow path: frames through the state itself (links and a scene state's attached objects)
+    def _state_frame(self, state: RobotState, frame: str) -> np.ndarray:
+        if frame in ("", self._model.model_frame):
+            return np.eye(4)
+        return state.get_frame_transform(frame)
+
+    def _state_terms(self, state: RobotState) -> list[tuple[str, object, float]]:
+        q = state.positions
+        terms = [("joint", j, j.weight * j.violation(q)) for j in self._joints]
+        for p in self._positions:
+            T_link = self._state_frame(state, p.link)
+            T_frame = self._state_frame(state, p.frame)
+            point = T_link[:3, :3] @ p.offset + T_link[:3, 3]
+            local = T_frame[:3, :3].T @ (point - T_frame[:3, 3])
+            outside = min(r.outside(local) for r in p.regions)
+            terms.append(("position", p, p.weight * max(outside - _EPS, 0.0)))
+        for o in self._orientations:
+            R_link = self._state_frame(state, o.link)[:3, :3]
+            R_frame = self._state_frame(state, o.frame)[:3, :3]
+            terms.append(("orientation", o, o.weight * o.violation(R_frame, R_link)))
+        return terms
+
+    def _state_violation(self, state: RobotState) -> float:
+        return float(sum(v for _, _, v in self._state_terms(state)))
+
+    def _state_describe(self, state: RobotState) -> list[str]:
+        return _describe(self._state_terms(state))
+
+    def __repr__(self) -> str:
+        return (
+            f"KinematicConstraintSet(name={self.name!r}, joint={len(self._joints)}, "
+            f"position={len(self._positions)}, orientation={len(self._orientations)})"
+        )
+
+
+class ConstraintEvaluator:
+    """A constraint set bound to a scene, evaluated on full joint vectors ``q``.
+
+    Owns a Pinocchio data object, so it is safe to use alongside ``RobotState`` kinematics.
+    Poses are composed as ``pin.SE3`` (in C++): a check of one orientation constraint costs a
+    few microseconds. Create with :meth:`KinematicConstraintSet.bind`.
+    """
+
+    def __init__(self, cset: KinematicConstraintSet, scene=None):
+        self.constraint_set = cset
+        model = cset.robot_model
+        self._pm = model.pinocchio_model
+        self._data = self._pm.createData()
+        resolver = _FrameResolver(model, scene)
+        self._joints = cset._joints
+        self._frame_ids: list[int] = []  # pinocchio frames whose placement a check needs
+        # (constraint, link ref, header ref); a ref is (frame id or None, pin.SE3)
+        self._positions = []
+        for k, p in enumerate(cset._positions):
+            link = self._ref(resolver.resolve(p.link, f"position constraint {k}"))
+            frame = self._ref(resolver.resolve(p.frame, f"position constraint {k} header"))
+            self._positions.append((p, link, frame))
+        self._orientations = []
+        for k, o in enumerate(cset._orientations):
+            link = self._ref(resolver.resolve(o.link, f"orientation constraint {k}"))
+            frame = self._ref(resolver.resolve(o.frame, f"orientation constraint {k} header"))
+            # the target in the header frame, folded into the header's offset
+            target = pin.SE3(o.target, np.zeros(3))
+            frame = (frame[0], frame[1] * target)
+            if frame[0] is None:
+                frame = (None, frame[1].inverse())  # fixed: keep the inverse
+            self._orientations.append((o, link, frame))
+        self._kinematic = bool(self._positions or self._orientations)
+
+    def _ref(self, resolved):
+        if resolved[0] == "fixed":
+            return (None, pin.SE3(resolved[1]))
+        fid, offset = resolved[1], resolved[2]
+        if fid not in self._frame_ids:
+            self._frame_ids.append(fid)
+        return (fid, pin.SE3(offset))
+
+    @property
+    def empty(self) -> bool:
+        return self.constraint_set.empty
+
+    def _pose(self, ref) -> pin.SE3:
+        fid, offset = ref
+        return offset if fid is None else self._data.oMf[fid] * offset
+
+    def _terms(self, q: np.ndarray, stop: bool):
+        """Yields (kind, constraint, weighted violation); stops at the first violation when
+        ``stop``."""
+        for j in self._joints:
+            v = j.violation(q)
+            yield ("joint", j, j.weight * v)
+            if stop and v > 0.0:
+                return
+        if not self._kinematic:
+            return
+        pm, data = self._pm, self._data
+        pin.forwardKinematics(pm, data, q)
+        for fid in self._frame_ids:
+            pin.updateFramePlacement(pm, data, fid)
+        for p, link_ref, frame_ref in self._positions:
+            point = self._pose(link_ref).act(p.offset)
+            fid, offset = frame_ref
+            header = offset if fid is None else data.oMf[fid] * offset
+            best = math.inf
+            for r in p.regions:
+                best = min(best, r.outside_local((r.pose_inv * header.inverse()).act(point)))
+                if best == 0.0:
+                    break
+            v = max(best - _EPS, 0.0)
+            yield ("position", p, p.weight * v)
+            if stop and v > 0.0:
+                return
+        for o, link_ref, frame_ref in self._orientations:
+            fid, offset = link_ref
+            R_link = offset.rotation if fid is None else data.oMf[fid].rotation @ offset.rotation
+            fid, offset = frame_ref
+            if fid is None:
+                diff = offset.rotation @ R_link  # offset holds the inverse of header * target
+            else:
+                diff = (data.oMf[fid].rotation @ offset.rotation).T @ R_link
+            v = o.diff_violation(diff)
+            yield ("orientation", o, o.weight * v)
+            if stop and v > 0.0:
+                return
+
+    def __call__(self, q: np.ndarray) -> bool:
+        """Whether every constraint holds at the full joint vector ``q``."""
+        for _, _, v in self._terms(q, True):
+            if v > 0.0:
+                return False
+        return True
+
+    def violation(self, q: np.ndarray) -> float:
+        """Weighted sum of the constraint violations at ``q`` (0 when all hold)."""
+        return float(sum(v for _, _, v in self._terms(q, False)))
+
+    def describe(self, q: np.ndarray) -> list[str]:
+        """One line per violated constraint at ``q``."""
+        return _describe(self._terms(q, False))
+
+
+def _describe(terms) -> list[str]:
+    out = []
+    for kind, c, v in terms:
+        if v > 0.0:
+            name = c.name if kind == "joint" else c.link
+            out.append(f"{kind} constraint on '{name}' violated by {v:.4g}")
+    return out
