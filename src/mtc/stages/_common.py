@@ -1,0 +1,390 @@
+"""Helpers shared by the stages: IK frames, goals, directions and failure comments.
+
+MTC keeps these in ``stages/*.cpp`` and ``utils.cpp`` (``getRobotTipForFrame``); ``MoveTo``,
+``MoveRelative`` and ``ComputeIK`` (and the pick & place containers that configure them) all
+need the same conversions, so they live here once:
+
+* IK frames: ``setIKFrame(PoseStamped | (pose, link) | link)`` -> ``msgs.PoseStamped``
+  (:func:`ik_frame_from_args`), and resolving an IK frame into the robot link the planners
+  move plus the frame's fixed offset on it (:func:`resolve_frame`, :func:`resolve_ik_frame`).
+* Goals of ``MoveTo``: named state | ``{joint: value}`` | diff ``msgs.RobotState`` |
+  ``PoseStamped`` | ``PointStamped`` (:func:`check_goal`, :func:`joint_goal`).
+* Directions of ``MoveRelative``: ``TwistStamped`` | ``Vector3Stamped`` | ``{joint: delta}``
+  (:func:`check_direction`, :func:`joint_deltas`).
+* Collision pairs in comments: ``"a - b, c - d"`` (:func:`format_collision_pairs`).
+
+Errors are exceptions here; each stage turns them into its own failure comment or init error.
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+import numpy as np
+
+from mtc import msgs
+
+__all__ = [
+    "FrameError",
+    "UnknownFrameError",
+    "NotALinkFrameError",
+    "MissingIKFrameError",
+    "GoalError",
+    "IKFrame",
+    "ik_frame_from_args",
+    "pose_stamped_from_args",
+    "as_matrix",
+    "resolve_frame",
+    "resolve_ik_frame",
+    "frame_pose",
+    "pose_stamped_to_matrix",
+    "check_goal",
+    "joint_goal",
+    "is_joint_goal",
+    "check_direction",
+    "joint_deltas",
+    "format_collision_pairs",
+    "type_name",
+]
+
+
+# ------------------------------------------------------------------------------ errors
+class FrameError(ValueError):
+    """A frame could not be used as an IK frame. ``str(e)`` is MoveTo's failure comment.
+
+    Attributes:
+        frame: The frame name concerned ("" if none).
+    """
+
+    def __init__(self, msg: str, frame: str = ""):
+        super().__init__(msg)
+        self.frame = frame
+
+
+class UnknownFrameError(FrameError):
+    """The frame is neither a link, an attached object (or its subframe), nor a world object."""
+
+    def __init__(self, frame: str):
+        super().__init__(f"ik_frame specified in unknown frame '{frame}'", frame)
+
+
+class NotALinkFrameError(FrameError):
+    """The frame is known but not fixed to the robot (a world object, the planning frame)."""
+
+    def __init__(self, frame: str):
+        super().__init__("ik_frame doesn't specify a link frame", frame)
+
+
+class MissingIKFrameError(FrameError):
+    """No IK frame given and the group has no unique end-effector tip to default to."""
+
+    def __init__(self, group: str = ""):
+        super().__init__("missing ik_frame", "")
+        self.group = group
+
+
+class GoalError(ValueError):
+    """A joint-space goal that cannot apply to the group (MTC raises these out of ``plan()``)."""
+
+
+def type_name(value) -> str:
+    """Short type name of a value, for "invalid goal type: X"-style comments."""
+    return type(value).__name__
+
+
+# ------------------------------------------------------------------------------ IK frames
+def as_matrix(pose, what: str = "pose") -> np.ndarray:
+    """A 4x4 homogeneous transform from a 4x4 array-like, a ``msgs.Pose`` or a ``pinocchio.SE3``.
+
+    Raises:
+        TypeError: Any other type (names the accepted ones).
+        ValueError: Not a finite 4x4 rigid transform.
+    """
+    if isinstance(pose, msgs.Pose):
+        return msgs.pose_to_matrix(pose)
+    if isinstance(pose, msgs.PoseStamped):
+        raise TypeError(f"{what}: pass a PoseStamped alone, not together with a frame name")
+    homogeneous = getattr(pose, "homogeneous", None)  # pinocchio.SE3 without importing pinocchio
+    if homogeneous is not None and not isinstance(pose, np.ndarray):
+        return np.array(homogeneous, dtype=float)
+    if isinstance(pose, (np.ndarray, list, tuple)):
+        # round-trip through matrix_to_pose validates shape, finiteness and rigidity
+        return msgs.pose_to_matrix(msgs.matrix_to_pose(pose))
+    raise TypeError(f"{what} must be a 4x4 matrix, a msgs.Pose or a pinocchio.SE3, not {type_name(pose)}")
+
+
+def pose_stamped_from_args(what: str, *args, default_frame: str | None = None) -> msgs.PoseStamped:
+    """``PoseStamped`` from MTC's pose overloads: ``(PoseStamped)``, ``(pose, frame)``, ``(frame)``.
+
+    Args:
+        what: Name of the setter, for error messages (e.g. "setIKFrame").
+        args: ``(PoseStamped)``; ``(pose, frame)`` with ``pose`` a 4x4 matrix, ``msgs.Pose``
+            or ``pinocchio.SE3``; ``(frame)`` (identity pose in that frame); ``(pose,)`` only
+            if ``default_frame`` is given.
+        default_frame: Frame used for ``(pose,)`` (``setTargetPose(pose, frame="")``).
+
+    Returns:
+        A new ``msgs.PoseStamped`` (the caller's message is copied, never kept).
+
+    Raises:
+        TypeError: Any other combination.
+    """
+    usage = f"{what}() takes a PoseStamped, a frame name, or a pose (4x4 matrix, msgs.Pose) and a frame name"
+    if len(args) == 1:
+        (value,) = args
+        if isinstance(value, msgs.PoseStamped):
+            return msgs.from_dict(msgs.PoseStamped, msgs.to_dict(value))
+        if isinstance(value, str):
+            return msgs.PoseStamped(
+                header=msgs.Header(frame_id=value), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))
+            )
+        if default_frame is not None:
+            return msgs.PoseStamped(
+                header=msgs.Header(frame_id=default_frame), pose=msgs.matrix_to_pose(as_matrix(value, what))
+            )
+        raise TypeError(f"{usage}, got {type_name(value)}")
+    if len(args) == 2:
+        pose, frame = args
+        if not isinstance(frame, str):
+            raise TypeError(f"{usage}; the frame name must be a str, got {type_name(frame)}")
+        return msgs.PoseStamped(header=msgs.Header(frame_id=frame), pose=msgs.matrix_to_pose(as_matrix(pose, what)))
+    raise TypeError(f"{usage}, got {len(args)} arguments")
+
+
+def ik_frame_from_args(*args) -> msgs.PoseStamped:
+    """The ``ik_frame`` property value of ``setIKFrame(PoseStamped | (pose, link) | link)``."""
+    return pose_stamped_from_args("setIKFrame", *args)
+
+
+@dataclass(frozen=True)
+class IKFrame:
+    """An IK frame resolved on the robot.
+
+    Attributes:
+        link: The robot link the planners move (the rigid parent of the frame).
+        offset: 4x4 pose of the IK frame in ``link``'s frame (constant while the link moves).
+        pose: 4x4 pose of the IK frame in the planning frame, in the state it was resolved in.
+    """
+
+    link: str
+    offset: np.ndarray
+    pose: np.ndarray
+
+
+def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
+    """The robot link a frame is fixed to, and the frame's 4x4 pose on that link.
+
+    A link resolves to its rigid parent (``robot_model.rigid_parent_link``: the nearest
+    ancestor moved by a joint); an attached object, or one of its subframes
+    (``"object/subframe"``), to the link it is attached to (and that link's rigid parent).
+
+    Args:
+        scene: The planning scene (its current state and attached objects).
+        frame: The frame name.
+
+    Raises:
+        UnknownFrameError: The scene does not know ``frame``.
+        NotALinkFrameError: ``frame`` is the planning frame or a world object.
+    """
+    model = scene.robot_model
+    if not frame or frame == scene.planning_frame:
+        raise NotALinkFrameError(frame)
+    name, _, sub = frame.partition("/")
+    if name in scene.attached_object_names:
+        attached = scene.get_attached_object(name)
+        if sub and sub not in attached.object.subframe_poses:
+            raise UnknownFrameError(frame)
+        state = scene.current_state
+        link, link_offset = model.rigid_parent_link(attached.link)
+        # the frame's pose on its link follows from the current transforms (state-independent)
+        offset = np.linalg.solve(state.get_global_link_transform(link), scene.get_frame_transform(frame))
+        return link, offset
+    if frame in model.link_model_names:
+        link, offset = model.rigid_parent_link(frame)
+        return link, np.array(offset, dtype=float)
+    if scene.knows_frame_transform(frame):
+        raise NotALinkFrameError(frame)  # a world object (or its subframe) does not move with the robot
+    raise UnknownFrameError(frame)
+
+
+def resolve_ik_frame(scene, ik_frame: msgs.PoseStamped | None, group=None) -> IKFrame:
+    """Resolve MoveTo's/MoveRelative's ``ik_frame`` as MTC's ``getRobotTipForFrame``.
+
+    Args:
+        scene: The planning scene whose current state is the start state.
+        ik_frame: The ``ik_frame`` property (None: undefined).
+        group: ``JointModelGroup`` used when ``ik_frame`` is None: its only end-effector tip.
+
+    Raises:
+        MissingIKFrameError: No ``ik_frame`` and no unique tip in ``group``.
+        UnknownFrameError, NotALinkFrameError: As :func:`resolve_frame`.
+        TypeError: ``ik_frame`` is not a ``PoseStamped``.
+    """
+    state = scene.current_state
+    if ik_frame is None:
+        tips = list(getattr(group, "end_effector_tips", []) or [])
+        if len(tips) != 1:
+            raise MissingIKFrameError(getattr(group, "name", ""))
+        link = tips[0]
+        return IKFrame(link, np.eye(4), state.get_global_link_transform(link))
+    if not isinstance(ik_frame, msgs.PoseStamped):
+        raise TypeError(f"ik_frame must be a PoseStamped, not {type_name(ik_frame)}")
+    frame = ik_frame.header.frame_id
+    link, frame_offset = resolve_frame(scene, frame)
+    offset = frame_offset @ msgs.pose_to_matrix(ik_frame.pose)
+    return IKFrame(link, offset, state.get_global_link_transform(link) @ offset)
+
+
+def frame_pose(scene, frame: str) -> np.ndarray:
+    """4x4 pose of ``frame`` in the planning frame ("" = the planning frame).
+
+    Raises:
+        KeyError: Unknown frame (the scene's message names the known links and objects).
+    """
+    if not frame:
+        return np.eye(4)
+    return scene.get_frame_transform(frame)
+
+
+def pose_stamped_to_matrix(scene, pose: msgs.PoseStamped) -> np.ndarray:
+    """4x4 pose of a ``PoseStamped`` in the planning frame (empty frame_id = planning frame).
+
+    Raises:
+        KeyError: The header's frame is unknown.
+    """
+    return frame_pose(scene, pose.header.frame_id) @ msgs.pose_to_matrix(pose.pose)
+
+
+# ------------------------------------------------------------------------------ goals
+_GOAL_TYPES = (str, dict, msgs.RobotState, msgs.PoseStamped, msgs.PointStamped)
+
+
+def _check_joint_values(values: dict, what: str) -> dict[str, float]:
+    out = {}
+    for name, value in values.items():
+        if not isinstance(name, str):
+            raise TypeError(f"{what}: joint names must be str, got {name!r}")
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+            raise TypeError(f"{what}: value of joint '{name}' must be a number, got {value!r}")
+        if not np.isfinite(value):
+            raise ValueError(f"{what}: value of joint '{name}' must be finite, got {value!r}")
+        out[name] = float(value)
+    return out
+
+
+def check_goal(goal):
+    """Validate a ``MoveTo.setGoal`` argument and return the property value to store.
+
+    A dict is stored as a diff ``msgs.RobotState``, as MTC's ``setGoal(map)`` does.
+
+    Raises:
+        TypeError: Not a str, dict, RobotState, PoseStamped or PointStamped (or bad dict items).
+    """
+    if isinstance(goal, dict):
+        values = _check_joint_values(goal, "setGoal")
+        return msgs.RobotState(
+            joint_state=msgs.JointState(name=list(values), position=list(values.values())), is_diff=True
+        )
+    if isinstance(goal, _GOAL_TYPES):
+        return goal
+    raise TypeError(
+        "setGoal() takes a named state (str), a dict joint -> value, a diff msgs.RobotState, "
+        f"a msgs.PoseStamped or a msgs.PointStamped, not {type_name(goal)}"
+    )
+
+
+def is_joint_goal(goal) -> bool:
+    """Whether ``goal`` is a joint-space goal (named state, dict or RobotState message)."""
+    return isinstance(goal, (str, dict, msgs.RobotState))
+
+
+def _group_joint_names(jmg) -> set[str]:
+    return set(jmg.joint_model_names) | set(jmg.variable_names)
+
+
+def joint_goal(goal, robot_model, group: str) -> dict[str, float]:
+    """Joint values of a joint-space goal for ``group``, as MTC's ``MoveTo::getJointStateGoal``.
+
+    Args:
+        goal: Named state (str), ``{joint: value}`` or a diff ``msgs.RobotState``.
+        robot_model: The robot model.
+        group: The planning group.
+
+    Returns:
+        ``{joint: value}`` to set on the start state.
+
+    Raises:
+        GoalError: Unknown named state ("Unknown joint pose: X"), a RobotState that is not a
+            diff ("Expecting a diff state"), a joint outside the group
+            ("Joint 'J' is not part of group 'G'").
+        TypeError: ``goal`` is not a joint-space goal.
+    """
+    jmg = robot_model.get_joint_model_group(group)
+    if isinstance(goal, str):
+        names = robot_model.group_state_names(jmg.name)
+        if goal not in names:
+            raise GoalError(
+                f"Unknown joint pose: {goal} (named states of group '{jmg.name}': {', '.join(names) or 'none'})"
+            )
+        return robot_model.get_group_state(jmg.name, goal)
+    if isinstance(goal, msgs.RobotState):
+        if not goal.is_diff:
+            raise GoalError("Expecting a diff state")
+        js = goal.joint_state
+        if len(js.name) != len(js.position):
+            raise GoalError(f"RobotState goal: {len(js.name)} joint names but {len(js.position)} positions")
+        values = dict(zip(js.name, js.position))
+        if goal.multi_dof_joint_state.joint_names:
+            names = goal.multi_dof_joint_state.joint_names
+            raise GoalError(f"Joint '{names[0]}' is not part of group '{jmg.name}' (multi-dof joints are not supported)")
+    elif isinstance(goal, dict):
+        values = goal
+    else:
+        raise TypeError(f"not a joint-space goal: {type_name(goal)}")
+    values = _check_joint_values(values, "goal")
+    accepted = _group_joint_names(jmg)
+    for name in values:
+        if name not in accepted:
+            raise GoalError(f"Joint '{name}' is not part of group '{jmg.name}'")
+    return values
+
+
+# ------------------------------------------------------------------------------ directions
+def check_direction(direction):
+    """Validate a ``MoveRelative.setDirection`` argument and return the property value.
+
+    Raises:
+        TypeError: Not a TwistStamped, Vector3Stamped or dict joint -> delta.
+    """
+    if isinstance(direction, dict):
+        return _check_joint_values(direction, "setDirection")
+    if isinstance(direction, (msgs.TwistStamped, msgs.Vector3Stamped)):
+        return direction
+    raise TypeError(
+        "setDirection() takes a msgs.TwistStamped, a msgs.Vector3Stamped or a dict joint -> delta, "
+        f"not {type_name(direction)}"
+    )
+
+
+def joint_deltas(direction: dict, robot_model, group: str) -> dict[str, float]:
+    """Validated joint deltas of a dict direction, as MTC's ``MoveRelative`` checks them.
+
+    Raises:
+        GoalError: "Cannot plan for joint 'J' that is not part of group 'G'" for a joint that is
+            not an active joint of the group (MTC: ``runtime_error``).
+    """
+    jmg = robot_model.get_joint_model_group(group)
+    active = set(jmg.variable_names)
+    deltas = _check_joint_values(direction, "direction")
+    for name in deltas:
+        if name not in active:
+            raise GoalError(f"Cannot plan for joint '{name}' that is not part of group '{jmg.name}'")
+    return deltas
+
+
+# ------------------------------------------------------------------------------ comments
+def format_collision_pairs(pairs: Iterable) -> str:
+    """``"a - b, c - d"`` from ``(a, b, ...)`` tuples (as MTC's collision comments)."""
+    return ", ".join(f"{p[0]} - {p[1]}" for p in pairs)
