@@ -1,0 +1,259 @@
+"""MoveRelative: move a frame by a relative motion, or joints by relative amounts.
+
+MTC's ``stages/move_relative.h`` (semantics §2.5). The direction is a ``TwistStamped``
+(translation and rotation about the IK frame's origin), a ``Vector3Stamped`` (translation)
+or ``{joint: delta}``; propagating backward, the motion is negated and the trajectory
+reversed, so the new start state lies the given motion *before* the end state.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from mtc import msgs
+from mtc.core.cost_terms import PathLength
+from mtc.core.stage import InitStageError, PropagatingEitherWay
+from mtc.core.storage import Interface, InterfaceState, SubTrajectory
+from mtc.stages._common import (
+    FrameError,
+    GoalError,
+    check_direction,
+    frame_pose,
+    ik_frame_from_args,
+    joint_deltas,
+    resolve_ik_frame,
+    type_name,
+)
+from mtc.stages.move_to import check_planner, planner_message
+
+__all__ = ["MoveRelative"]
+
+_EPS = np.finfo(float).eps
+
+
+def _axis_angle(axis: np.ndarray, angle: float) -> np.ndarray:
+    """3x3 rotation by ``angle`` [rad] about the unit ``axis`` (Rodrigues)."""
+    if angle == 0.0 or not np.any(axis):
+        return np.eye(3)
+    x, y, z = axis
+    K = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
+
+
+def _rotation_angle(R: np.ndarray) -> float:
+    """Angle [rad] of a rotation matrix (in [0, pi])."""
+    return math.acos(max(-1.0, min(1.0, (float(np.trace(R)) - 1.0) / 2.0)))
+
+
+class MoveRelative(PropagatingEitherWay):
+    """Move relative to the current state.
+
+    Args:
+        name: Stage name.
+        planner: The planner (usually ``CartesianPath`` for Cartesian motions).
+
+    Properties:
+        timeout: Planning time per run [s] (default 1.0).
+        group: Planning group (required).
+        ik_frame: ``PoseStamped`` of the robot frame to move (default: the group's
+            end-effector tip).
+        direction: ``msgs.TwistStamped`` (linear [m] and angular [rad] motion in its
+            header frame; rotation about the IK frame's origin), ``msgs.Vector3Stamped``
+            (translation [m]) or ``{joint: delta}``.
+        min_distance: Least distance to move [m or rad]; a shorter (e.g. collision-stopped)
+            motion fails. -1: the full distance is required; 0: any distance succeeds.
+        max_distance: If > 0, the direction is scaled to this length [m or rad].
+        path_constraints: ``msgs.Constraints`` to hold along the path.
+
+    Cost: joint-space path length (``PathLength``).
+    """
+
+    def __init__(self, name: str = "move relative", planner=None):
+        super().__init__(name)
+        check_planner(self, planner)
+        self._planner = planner
+        self.setCostTerm(PathLength())
+        p = self.properties
+        p.property("timeout").setDefaultValue(1.0)
+        p.declare("group", None, "name of planning group", type=str)
+        p.declare("ik_frame", None, "frame to be moved in Cartesian direction", type=msgs.PoseStamped)
+        p.declare("direction", None, "motion specification")
+        p.declare("min_distance", -1.0, "minimum distance to move (m or rad)")
+        p.declare("max_distance", 0.0, "maximum distance to move (m or rad)")
+        p.declare("path_constraints", msgs.Constraints(), "constraints to maintain during trajectory")
+
+    # --- configuration ------------------------------------------------------------------
+    @property
+    def planner(self):
+        """The planner."""
+        return self._planner
+
+    def setPlanner(self, planner) -> None:
+        """Replace the planner."""
+        check_planner(self, planner)
+        self._planner = planner
+
+    def setGroup(self, group: str) -> None:
+        """Set the planning group."""
+        self.properties.set("group", group)
+
+    def setIKFrame(self, *args) -> None:
+        """``setIKFrame(PoseStamped)``, ``setIKFrame(pose, link)`` or ``setIKFrame(link)``."""
+        self.properties.set("ik_frame", ik_frame_from_args(*args))
+
+    def setMinDistance(self, distance: float) -> None:
+        """Set ``min_distance`` [m or rad]."""
+        self.properties.set("min_distance", distance)
+
+    def setMaxDistance(self, distance: float) -> None:
+        """Set ``max_distance`` [m or rad]."""
+        self.properties.set("max_distance", distance)
+
+    def setMinMaxDistance(self, min_distance: float, max_distance: float) -> None:
+        """Set ``min_distance`` and ``max_distance``."""
+        self.setMinDistance(min_distance)
+        self.setMaxDistance(max_distance)
+
+    def setPathConstraints(self, constraints: msgs.Constraints) -> None:
+        """Set the path constraints."""
+        self.properties.set("path_constraints", constraints)
+
+    def setDirection(self, direction) -> None:
+        """Set the motion: ``TwistStamped``, ``Vector3Stamped`` or ``{joint: delta}``."""
+        self.properties.set("direction", check_direction(direction))
+
+    def init(self, robot_model) -> None:
+        super().init(robot_model)
+        if self._planner is None:
+            raise InitStageError(self, "no planner specified (pass one to the constructor or use setPlanner())")
+        self._planner.init(robot_model)
+
+    # --- computing -----------------------------------------------------------------------
+    def compute(self, state: InterfaceState, direction: int):
+        """Plan the relative motion from ``state``: ``(success, end scene, SubTrajectory)``.
+
+        Raises:
+            RuntimeError: A joint delta for a joint outside the group (as MTC).
+        """
+        scene = state.scene.diff()
+        model = scene.robot_model
+        props = self.properties
+        group = props.get("group")
+        if not model.has_joint_model_group(group):
+            return False, scene, SubTrajectory.failure(f"invalid joint model group: {group}")
+        jmg = model.get_joint_model_group(group)
+        motion = props.get("direction", None)
+        if motion is None:
+            return False, scene, SubTrajectory.failure("undefined direction")
+        max_distance = float(props.get("max_distance"))
+        min_distance = float(props.get("min_distance"))
+        # min == max: move the full distance
+        if max_distance > 0.0 and abs(max_distance - min_distance) < _EPS:
+            min_distance = -1.0
+        timeout = props.get("timeout")
+        path_constraints = props.get("path_constraints")
+        backward = direction == Interface.BACKWARD
+        solution = SubTrajectory()
+
+        if isinstance(motion, dict):
+            try:
+                deltas = joint_deltas(motion, model, group)
+            except GoalError as e:
+                raise RuntimeError(f"{self.name}: {e}") from None
+            sign = -1.0 if backward else 1.0
+            goal = scene.current_state
+            # joint bounds are left to the planner, which reports a goal out of bounds
+            goal.set_variable_positions({j: goal.positions[model.variable_index(j)] + sign * d for j, d in deltas.items()})
+            result, trajectory = self._planner.plan(state.scene, scene, group, timeout, path_constraints)
+            success = bool(result)
+            comment = "" if success else planner_message(result)
+        else:
+            try:
+                ik = resolve_ik_frame(scene, props.get("ik_frame", None), jmg)
+            except FrameError as e:
+                return False, scene, SubTrajectory.failure(str(e))
+            if not isinstance(motion, (msgs.TwistStamped, msgs.Vector3Stamped)):
+                return False, scene, SubTrajectory.failure(f"invalid direction type: {type_name(motion)}")
+            try:
+                frame = frame_pose(scene, motion.header.frame_id)
+            except KeyError:
+                return False, scene, SubTrajectory.failure(f"unknown frame of direction: '{motion.header.frame_id}'")
+            start_pose = ik.pose
+            use_rotation_distance = False
+            if isinstance(motion, msgs.TwistStamped):
+                lin, ang = motion.twist.linear, motion.twist.angular
+                linear = np.array([lin.x, lin.y, lin.z], dtype=float)
+                angular = np.array([ang.x, ang.y, ang.z], dtype=float)
+                linear_norm = float(np.linalg.norm(linear))
+                angular_norm = float(np.linalg.norm(angular))
+                if angular_norm > _EPS:
+                    angular /= angular_norm
+                use_rotation_distance = linear_norm < _EPS
+                if max_distance > 0.0:
+                    if not use_rotation_distance:
+                        scale = max_distance / linear_norm
+                    elif angular_norm > _EPS:
+                        scale = max_distance / angular_norm
+                    else:
+                        return False, scene, SubTrajectory.failure("direction is a zero twist")
+                    linear *= scale
+                    linear_norm *= scale
+                    angular_norm *= scale
+                if backward:
+                    linear, angular = -linear, -angular
+                # the twist is given in its header frame: rotate it into the planning frame
+                linear = frame[:3, :3] @ linear
+                angular = frame[:3, :3] @ angular
+                R = _axis_angle(angular, angular_norm)
+                p = start_pose[:3, 3]
+                # rotate about the ik frame's origin (world axes), then translate
+                target = np.eye(4)
+                target[:3, :3] = R @ start_pose[:3, :3]
+                target[:3, 3] = linear + p
+            else:
+                v = motion.vector
+                linear = np.array([v.x, v.y, v.z], dtype=float)
+                if max_distance > 0.0:
+                    n = float(np.linalg.norm(linear))
+                    if n < _EPS:
+                        return False, scene, SubTrajectory.failure("direction is a zero vector")
+                    linear *= max_distance / n
+                if backward:
+                    linear = -linear
+                linear = frame[:3, :3] @ linear
+                target = start_pose.copy()
+                target[:3, 3] += linear
+            result, trajectory = self._planner.plan_to_pose(
+                state.scene, ik.link, ik.offset, target, group, timeout, path_constraints
+            )
+            success = bool(result)
+            comment = "" if success else planner_message(result)
+            if trajectory is not None and len(trajectory) > 0:
+                reached = trajectory.waypoints[-1].get_global_link_transform(ik.link) @ ik.offset
+                if use_rotation_distance:
+                    distance = _rotation_angle(reached[:3, :3] @ start_pose[:3, :3].T)
+                else:
+                    distance = float(np.linalg.norm(reached[:3, 3] - start_pose[:3, 3]))
+                if min_distance > 0.0:
+                    success = distance >= min_distance
+                    if not success:
+                        solution.comment = f"min_distance not reached ({distance:.3g} < {min_distance:.3g})"
+                elif min_distance == 0.0:  # any distance will do
+                    success = True
+                elif not success:
+                    solution.comment = "failed to move full distance"
+
+        if trajectory is None or len(trajectory) == 0:
+            # nothing to show: a failure with the planner's reason (silent if it gave none)
+            if comment:
+                solution.markAsFailure(comment)
+            return False, scene, solution
+        scene.current_state = trajectory.waypoints[-1]
+        if backward:
+            trajectory.reverse()
+        solution.trajectory = trajectory
+        if not success:
+            solution.markAsFailure(comment)
+        return True, scene, solution

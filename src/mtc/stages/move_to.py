@@ -1,0 +1,194 @@
+"""MoveTo: plan from a state to a goal (a named or joint-space state, or a pose of a frame).
+
+MTC's ``stages/move_to.h`` (semantics §2.4). Planning always runs from the given state
+towards the goal; propagating backward, the trajectory is reversed, so the new *start*
+state is the goal.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from mtc import msgs
+from mtc.core.cost_terms import PathLength
+from mtc.core.stage import InitStageError, PropagatingEitherWay
+from mtc.core.storage import Interface, InterfaceState, SubTrajectory
+from mtc.stages._common import (
+    FrameError,
+    GoalError,
+    check_goal,
+    frame_pose,
+    ik_frame_from_args,
+    is_joint_goal,
+    joint_goal,
+    pose_stamped_to_matrix,
+    resolve_ik_frame,
+    type_name,
+)
+
+__all__ = ["MoveTo"]
+
+
+def planner_message(result) -> str:
+    """The message of a planner result (``PlannerResult.message``), "" if it has none."""
+    return str(getattr(result, "message", "") or "")
+
+
+def synthesized_trajectory(robot_model, group: str, start, goal):
+    """A 2-waypoint trajectory start -> goal, shown for a failure without a planned path (as MTC)."""
+    from mtc.scene.robot_trajectory import RobotTrajectory
+
+    traj = RobotTrajectory(robot_model, group)
+    traj.add_suffix_waypoint(start, 0.0)
+    traj.add_suffix_waypoint(goal, 1.0)
+    return traj
+
+
+def check_planner(stage, planner) -> None:
+    """Raise ``TypeError`` unless ``planner`` looks like a PlannerInterface (or is None)."""
+    if planner is None:
+        return
+    if not (callable(getattr(planner, "plan", None)) and callable(getattr(planner, "init", None))):
+        raise TypeError(
+            f"{type(stage).__name__} '{stage.name}': planner must be a PlannerInterface "
+            f"(e.g. core.JointInterpolationPlanner()), got {type(planner).__name__}"
+        )
+
+
+class MoveTo(PropagatingEitherWay):
+    """Plan to a goal with a planner.
+
+    Args:
+        name: Stage name.
+        planner: The planner (``PlannerInterface``: JointInterpolationPlanner, CartesianPath,
+            PipelinePlanner, MultiPlanner, ...).
+
+    Properties:
+        timeout: Planning time per run [s] (default 1.0).
+        group: Planning group (required).
+        ik_frame: ``PoseStamped`` of the robot frame moved to a pose goal (default: the
+            group's end-effector tip).
+        goal: A named state of the group (str), ``{joint: value}``, a diff
+            ``msgs.RobotState``, a ``msgs.PoseStamped`` or a ``msgs.PointStamped``.
+        path_constraints: ``msgs.Constraints`` to hold along the path.
+
+    Cost: joint-space path length (``PathLength``).
+    """
+
+    def __init__(self, name: str = "move to", planner=None):
+        super().__init__(name)
+        check_planner(self, planner)
+        self._planner = planner
+        self.setCostTerm(PathLength())
+        p = self.properties
+        p.property("timeout").setDefaultValue(1.0)
+        p.declare("group", None, "name of planning group", type=str)
+        p.declare("ik_frame", None, "frame to be moved towards goal pose", type=msgs.PoseStamped)
+        p.declare("goal", None, "goal specification")
+        p.declare("path_constraints", msgs.Constraints(), "constraints to maintain during trajectory")
+
+    # --- configuration ------------------------------------------------------------------
+    @property
+    def planner(self):
+        """The planner."""
+        return self._planner
+
+    def setPlanner(self, planner) -> None:
+        """Replace the planner."""
+        check_planner(self, planner)
+        self._planner = planner
+
+    def setGroup(self, group: str) -> None:
+        """Set the planning group."""
+        self.properties.set("group", group)
+
+    def setIKFrame(self, *args) -> None:
+        """``setIKFrame(PoseStamped)``, ``setIKFrame(pose, link)`` or ``setIKFrame(link)``."""
+        self.properties.set("ik_frame", ik_frame_from_args(*args))
+
+    def setGoal(self, goal) -> None:
+        """Set the goal: named state, ``{joint: value}`` (stored as a diff RobotState message),
+        diff ``msgs.RobotState``, ``msgs.PoseStamped`` or ``msgs.PointStamped``."""
+        self.properties.set("goal", check_goal(goal))
+
+    def setPathConstraints(self, constraints: msgs.Constraints) -> None:
+        """Set the path constraints."""
+        self.properties.set("path_constraints", constraints)
+
+    def init(self, robot_model) -> None:
+        super().init(robot_model)
+        if self._planner is None:
+            raise InitStageError(self, "no planner specified (pass one to the constructor or use setPlanner())")
+        self._planner.init(robot_model)
+
+    # --- computing -----------------------------------------------------------------------
+    def compute(self, state: InterfaceState, direction: int):
+        """Plan from ``state`` to the goal: ``(success, end scene, SubTrajectory)``.
+
+        Raises:
+            InitStageError: A joint-space goal that cannot apply to the group (unknown named
+                state, non-diff RobotState, joint outside the group), as MTC.
+        """
+        scene = state.scene.diff()
+        model = scene.robot_model
+        props = self.properties
+        group = props.get("group")
+        if not model.has_joint_model_group(group):
+            return False, scene, SubTrajectory.failure(f"invalid joint model group: {group}")
+        jmg = model.get_joint_model_group(group)
+        goal = props.get("goal", None)
+        if goal is None:
+            return False, scene, SubTrajectory.failure("undefined goal")
+        timeout = props.get("timeout")
+        path_constraints = props.get("path_constraints")
+
+        if is_joint_goal(goal):
+            try:
+                values = joint_goal(goal, model, group)
+            except GoalError as e:
+                raise InitStageError(self, str(e)) from None
+            scene.current_state.set_variable_positions(values)
+            result, trajectory = self._planner.plan(state.scene, scene, group, timeout, path_constraints)
+        else:
+            try:
+                ik = resolve_ik_frame(scene, props.get("ik_frame", None), jmg)
+            except FrameError as e:
+                return False, scene, SubTrajectory.failure(str(e))
+            if isinstance(goal, msgs.PoseStamped):
+                try:
+                    target = pose_stamped_to_matrix(scene, goal)
+                except KeyError:
+                    return False, scene, SubTrajectory.failure(f"unknown frame of goal pose: '{goal.header.frame_id}'")
+            elif isinstance(goal, msgs.PointStamped):
+                try:
+                    frame = frame_pose(scene, goal.header.frame_id)
+                except KeyError:
+                    return False, scene, SubTrajectory.failure(f"unknown frame of goal point: '{goal.header.frame_id}'")
+                p = goal.point
+                # keep the ik frame's orientation, move its origin to the point
+                target = ik.pose.copy()
+                target[:3, 3] = frame[:3, :3] @ np.array([p.x, p.y, p.z], dtype=float) + frame[:3, 3]
+            else:
+                return False, scene, SubTrajectory.failure(f"invalid goal type: {type_name(goal)}")
+            result, trajectory = self._planner.plan_to_pose(
+                state.scene, ik.link, ik.offset, target, group, timeout, path_constraints
+            )
+        return self._store(state, scene, group, direction, result, trajectory)
+
+    def _store(self, state, scene, group, direction, result, trajectory):
+        """Turn a planner result into ``(success, end scene, SubTrajectory)`` (as MTC's MoveTo)."""
+        success = bool(result)
+        if (trajectory is None or len(trajectory) == 0) and self.storeFailures():
+            # show where it should have gone
+            trajectory = synthesized_trajectory(scene.robot_model, group, state.scene.current_state, scene.current_state)
+        if trajectory is None or len(trajectory) == 0:
+            # nothing to show: a failure with the planner's reason (silent if it gave none)
+            message = "" if success else planner_message(result)
+            return False, scene, SubTrajectory.failure(message) if message else SubTrajectory()
+        scene.current_state = trajectory.waypoints[-1]
+        if direction == Interface.BACKWARD:
+            trajectory.reverse()
+        solution = SubTrajectory(trajectory)
+        if not success:
+            solution.markAsFailure(planner_message(result) or "planning failed")
+        return True, scene, solution
