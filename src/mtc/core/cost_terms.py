@@ -1,0 +1,380 @@
+"""Cost terms: how a stage turns a solution into a cost (MTC's ``cost_terms.h``, semantics §5).
+
+A stage evaluates its cost term when it stores a solution; the solution then already knows
+its start and end states and its creator. A term returns a cost, or a ``(cost, comment)``
+pair whose comment is added to the solution's comment. An infinite cost makes the solution
+a failure.
+
+* :class:`CostTerm` (every stage's default): keep the cost the stage set. Python subclasses
+  override ``__call__(self, solution)`` and receive a :class:`SubTrajectory`,
+  :class:`SolutionSequence` or :class:`WrappedSolution`.
+* :class:`TrajectoryCostTerm`: subclasses see only :class:`SubTrajectory` leaves; on a
+  sequence the leaf costs are summed, on a wrapped solution the wrapped one is used.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping, Sequence
+from enum import IntEnum
+
+import numpy as np
+
+from mtc.core.storage import SolutionSequence, SubTrajectory, WrappedSolution
+
+__all__ = [
+    "Clearance",
+    "Constant",
+    "CostTerm",
+    "DistanceToReference",
+    "LambdaCostTerm",
+    "LinkMotion",
+    "LinkRotation",
+    "PathLength",
+    "TrajectoryCostTerm",
+    "TrajectoryDuration",
+    "as_cost_term",
+]
+
+INF = math.inf
+
+
+def _normalize(result) -> tuple[float, str]:
+    """Accept ``cost`` or ``(cost, comment)`` from a cost term."""
+    if isinstance(result, tuple):
+        if len(result) != 2:
+            raise TypeError(f"a cost term returns a cost or a (cost, comment) pair, got {result!r}")
+        cost, comment = result
+        return float(cost), "" if comment is None else str(comment)
+    try:
+        return float(result), ""
+    except (TypeError, ValueError):
+        raise TypeError(f"a cost term returns a cost or a (cost, comment) pair, got {result!r}") from None
+
+
+class CostTerm:
+    """Base cost term: returns the solution's current cost (what the stage set)."""
+
+    def __call__(self, solution):
+        """Cost of ``solution`` (a SubTrajectory, SolutionSequence or WrappedSolution)."""
+        return solution.cost
+
+    def _evaluate(self, solution) -> tuple[float, str]:
+        return _normalize(self(solution))
+
+
+class TrajectoryCostTerm(CostTerm):
+    """Base of trajectory-based terms: implement ``__call__(self, sub_trajectory)``.
+
+    Sequences cost the sum of their parts, wrapped solutions the cost of the wrapped one;
+    comments of the parts are joined with ", ".
+    """
+
+    class Mode(IntEnum):
+        """Which part of a solution a term looks at."""
+
+        AUTO = 0  # the trajectory if there is one, else the start state
+        START_INTERFACE = 1
+        END_INTERFACE = 2
+        TRAJECTORY = 3
+
+    AUTO = Mode.AUTO
+    START_INTERFACE = Mode.START_INTERFACE
+    END_INTERFACE = Mode.END_INTERFACE
+    TRAJECTORY = Mode.TRAJECTORY
+
+    def __call__(self, solution):  # pragma: no cover - abstract
+        raise NotImplementedError(f"{type(self).__name__} must implement __call__(self, sub_trajectory)")
+
+    def _evaluate(self, solution) -> tuple[float, str]:
+        if isinstance(solution, SolutionSequence):
+            total = 0.0
+            comments = []
+            for sub in solution.solutions:
+                c, comment = self._evaluate(sub)
+                total += c
+                if comment:
+                    comments.append(comment)
+            return total, ", ".join(comments)
+        if isinstance(solution, WrappedSolution):
+            return self._evaluate(solution.wrapped)
+        return _normalize(self(solution))
+
+
+class LambdaCostTerm(TrajectoryCostTerm):
+    """A cost term from a function ``f(sub_trajectory) -> cost | (cost, comment)``."""
+
+    def __init__(self, fn: Callable):
+        if not callable(fn):
+            raise TypeError(f"LambdaCostTerm needs a callable, got {fn!r}")
+        self.fn = fn
+
+    def __call__(self, solution):
+        return self.fn(solution)
+
+
+class Constant(CostTerm):
+    """The same cost for every solution kind (no summing over sequences)."""
+
+    def __init__(self, cost: float = 0.0):
+        self.cost = float(cost)
+
+    def __call__(self, solution):
+        return self.cost
+
+
+def as_cost_term(term) -> CostTerm | None:
+    """What ``setCostTerm()`` accepts: a CostTerm, None (default) or a callable."""
+    if term is None or isinstance(term, CostTerm):
+        return term
+    if callable(term):
+        return LambdaCostTerm(term)
+    raise TypeError(f"setCostTerm() expects a CostTerm, a callable or None, got {type(term).__name__}")
+
+
+# ----------------------------------------------------------------------------------------
+# Trajectory based terms
+# ----------------------------------------------------------------------------------------
+
+
+def _waypoints(trajectory) -> list:
+    if trajectory is None:
+        return []
+    return [trajectory[i] for i in range(len(trajectory))]
+
+
+def _joint_distances(model, a, b, names: Sequence[str]) -> np.ndarray:
+    """Per-joint distance between the joint values of two states (continuous joints wrap)."""
+    idx = np.array([model.variable_index(n) for n in names], dtype=int)
+    d = np.abs(np.asarray(a.positions)[idx] - np.asarray(b.positions)[idx])
+    cont = np.asarray(model.continuous_mask)[idx]
+    if cont.any():
+        d = np.where(cont, np.minimum(d, 2 * math.pi - np.mod(d, 2 * math.pi)), d)
+    return d
+
+
+class PathLength(TrajectoryCostTerm):
+    """Joint-space path length of the trajectory.
+
+    Args:
+        joints: None (all joints, ``RobotState.distance``), a list of joint names
+            (weight 1 each) or a dict joint -> weight. Unknown joints are ignored.
+    """
+
+    def __init__(self, joints: Sequence[str] | Mapping[str, float] | None = None):
+        if joints is None:
+            self.joints: dict[str, float] = {}
+        elif isinstance(joints, Mapping):
+            self.joints = {str(k): float(v) for k, v in joints.items()}
+        elif isinstance(joints, str):
+            self.joints = {joints: 1.0}
+        else:
+            self.joints = {str(k): 1.0 for k in joints}
+
+    def __call__(self, solution):
+        traj = solution.trajectory
+        if traj is None or len(traj) == 0:
+            return 0.0
+        wps = _waypoints(traj)
+        if not self.joints:
+            return float(sum(wps[i - 1].distance(wps[i]) for i in range(1, len(wps))))
+        model = wps[0].robot_model
+        names = [n for n in self.joints if n in model.variable_names]
+        if not names:
+            return 0.0
+        w = np.array([self.joints[n] for n in names])
+        return float(sum(float(w @ _joint_distances(model, wps[i - 1], wps[i], names)) for i in range(1, len(wps))))
+
+
+class DistanceToReference(TrajectoryCostTerm):
+    """Distance of the solution's states to a reference joint configuration.
+
+    Args:
+        reference: dict joint -> value, or an ``mtc.msgs.RobotState`` (its joint_state).
+        mode: Which states to measure (AUTO: trajectory waypoints (mean) if there is a
+            trajectory, else the start state).
+        weights: dict joint -> weight; empty: ``RobotState.distance`` over all joints.
+    """
+
+    def __init__(self, reference, mode=TrajectoryCostTerm.Mode.AUTO, weights: Mapping[str, float] | None = None):
+        if isinstance(reference, Mapping):
+            self.reference = {str(k): float(v) for k, v in reference.items()}
+        elif hasattr(reference, "joint_state"):
+            js = reference.joint_state
+            self.reference = {str(n): float(v) for n, v in zip(js.name, js.position)}
+        else:
+            raise TypeError(
+                f"DistanceToReference expects a dict joint -> value or a RobotState message, got {type(reference).__name__}"
+            )
+        self.mode = TrajectoryCostTerm.Mode(mode)
+        self.weights = {str(k): float(v) for k, v in (weights or {}).items()}
+
+    def _distance(self, ref_state, state) -> float:
+        if not self.weights:
+            return float(ref_state.distance(state))
+        model = state.robot_model
+        names = [n for n in self.weights if n in model.variable_names]
+        if not names:
+            return 0.0
+        w = np.array([self.weights[n] for n in names])
+        return float(w @ _joint_distances(model, ref_state, state, names))
+
+    def __call__(self, solution):
+        mode = self.mode
+        use_end = mode == TrajectoryCostTerm.Mode.END_INTERFACE
+        interface_state = solution.end if use_end else solution.start
+        ref = interface_state.scene.current_state.copy()
+        ref.set_variable_positions(self.reference)
+        traj = solution.trajectory
+        if mode in (TrajectoryCostTerm.Mode.START_INTERFACE, TrajectoryCostTerm.Mode.END_INTERFACE) or (
+            mode == TrajectoryCostTerm.Mode.AUTO and (traj is None or len(traj) == 0)
+        ):
+            return self._distance(ref, interface_state.scene.current_state)
+        wps = _waypoints(traj)
+        if not wps:
+            return 0.0
+        return sum(self._distance(ref, w) for w in wps) / len(wps)
+
+
+class TrajectoryDuration(TrajectoryCostTerm):
+    """Duration of the trajectory [s] (0 without trajectory)."""
+
+    def __call__(self, solution):
+        traj = solution.trajectory
+        if traj is None or len(traj) == 0:
+            return 0.0
+        return float(traj.duration)
+
+
+def _link_transform(state, link):
+    try:
+        return np.asarray(state.get_frame_transform(link))
+    except (KeyError, ValueError, RuntimeError):
+        return None
+
+
+class LinkMotion(TrajectoryCostTerm):
+    """Cartesian path length [m] of a link (or frame) over the trajectory."""
+
+    def __init__(self, link_name: str):
+        self.link_name = str(link_name)
+
+    def __call__(self, solution):
+        traj = solution.trajectory
+        if traj is None or len(traj) == 0:
+            return 0.0
+        wps = _waypoints(traj)
+        prev = _link_transform(wps[0], self.link_name)
+        if prev is None:
+            return INF, f"LinkMotionCost: frame '{self.link_name}' unknown in trajectory"
+        total = 0.0
+        for w in wps[1:]:
+            cur = _link_transform(w, self.link_name)
+            total += float(np.linalg.norm(cur[:3, 3] - prev[:3, 3]))
+            prev = cur
+        return total
+
+
+def _rotation_angle(r_a: np.ndarray, r_b: np.ndarray) -> float:
+    """Angle [rad] of the relative rotation (as Eigen's quaternion angularDistance)."""
+    r = r_a.T @ r_b
+    c = (np.trace(r) - 1.0) / 2.0
+    return float(math.acos(max(-1.0, min(1.0, c))))
+
+
+class LinkRotation(TrajectoryCostTerm):
+    """Accumulated rotation [rad] of a link (or frame) over the trajectory."""
+
+    def __init__(self, link_name: str):
+        self.link_name = str(link_name)
+
+    def __call__(self, solution):
+        traj = solution.trajectory
+        if traj is None or len(traj) == 0:
+            return 0.0
+        wps = _waypoints(traj)
+        prev = _link_transform(wps[0], self.link_name)
+        if prev is None:
+            return INF, f"LinkRotationCost: frame '{self.link_name}' unknown in trajectory"
+        total = 0.0
+        for w in wps[1:]:
+            cur = _link_transform(w, self.link_name)
+            total += _rotation_angle(prev[:3, :3], cur[:3, :3])
+            prev = cur
+        return total
+
+
+class Clearance(TrajectoryCostTerm):
+    """Cost from the distance to collision: ``1 / (d + 1e-5)``.
+
+    Args:
+        with_world: Distance of the robot to the world (else self-distance).
+        cumulative: Sum of all pair distances instead of the minimum.
+        group_property: Name of the property holding the group to check (looked up in the
+            interface state's properties, else in the creating stage's).
+        mode: Which states to measure (see :class:`TrajectoryCostTerm.Mode`).
+    """
+
+    def __init__(self, with_world: bool = True, cumulative: bool = False, group_property: str = "group",
+                 mode=TrajectoryCostTerm.Mode.AUTO):
+        self.with_world = bool(with_world)
+        self.cumulative = bool(cumulative)
+        self.group_property = str(group_property)
+        self.mode = TrajectoryCostTerm.Mode(mode)
+
+    @staticmethod
+    def distance_to_cost(d: float) -> float:
+        """The cost of a clearance ``d`` [m]."""
+        return 1.0 / (d + 1e-5)
+
+    def _group(self, solution, state):
+        name = self.group_property
+        if state._properties is not None and name in state._properties:
+            value = state._properties[name]
+            if value is not None:
+                return value
+        creator = solution.creator
+        if creator is not None and name in creator._properties:
+            return creator._properties[name]
+        return None
+
+    def _query(self, scene, robot_state, group):
+        """Return (distance, body_a, body_b); the distance is summed if cumulative."""
+        pairs = scene.collision_distances(robot_state, group=group, world=self.with_world,
+                                          self_collision=not self.with_world)
+        if not pairs:
+            return INF, "", ""
+        if self.cumulative:
+            return float(sum(p[0] for p in pairs)), "", ""
+        d, a, b = min(pairs, key=lambda p: p[0])
+        return float(d), a, b
+
+    def __call__(self, solution):
+        mode = self.mode
+        traj = solution.trajectory
+        interface_mode = mode in (TrajectoryCostTerm.Mode.START_INTERFACE, TrajectoryCostTerm.Mode.END_INTERFACE) or (
+            mode == TrajectoryCostTerm.Mode.AUTO and (traj is None or len(traj) == 0)
+        )
+        if interface_mode:
+            state = solution.end if mode == TrajectoryCostTerm.Mode.END_INTERFACE else solution.start
+            scene = state.scene
+            d, a, b = self._query(scene, scene.current_state, self._group(solution, state))
+            if d < 0:
+                return INF, f"Clearance: allegedly valid solution collides between '{a}' and '{b}'"
+            if self.cumulative:
+                comment = f"Clearance: cumulative distance {d:g}"
+            else:
+                comment = f"Clearance: distance {d:g} between '{a}' and '{b}'"
+            return self.distance_to_cost(d), comment
+        scene = solution.start.scene
+        group = self._group(solution, solution.start)
+        wps = _waypoints(traj)
+        total = 0.0
+        for w in wps:
+            d, a, b = self._query(scene, w, group)
+            if d < 0:
+                return INF, f"Clearance: allegedly valid solution collides between '{a}' and '{b}'"
+            total += d
+        d = total / len(wps)
+        kind = "average cumulative" if self.cumulative else "average"
+        return self.distance_to_cost(d), f"Clearance: {kind} distance: {d:g}"

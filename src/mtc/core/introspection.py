@@ -1,0 +1,178 @@
+"""Looking into a task: printState lines, failure explanations and an introspection snapshot.
+
+:class:`Introspection` is a plain-data view of a task's stage tree: for each stage its id,
+parent, name, interface flags, solutions (id, cost, comment), failures and compute time.
+It can be saved to and loaded from JSON. (The browser inspector builds on it.)
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+from typing import Any
+
+__all__ = ["Introspection", "print_state", "solution_to_msg"]
+
+
+def print_state(container, file=None) -> None:
+    """Write one line per stage of ``container``'s subtree, indented by depth (MTC's printState)."""
+    out = sys.stdout if file is None else file
+
+    def line(stage, depth):
+        out.write("  " * depth + stage._stateLine() + "\n")
+        return True
+
+    container.traverseRecursively(line)
+
+
+class Introspection:
+    """Snapshot of a task's stage tree with solutions, failures and compute times.
+
+    Args:
+        task: The task (None for a loaded snapshot).
+
+    Attributes:
+        stages: list of dicts with ``id``, ``parent_id``, ``name``, ``depth``, ``flags``,
+            ``solutions`` (list of ``{"id", "cost", "comment"}``), ``failures`` (same),
+            ``num_failures``, ``total_compute_time`` [s] and ``properties`` (name -> str).
+    """
+
+    def __init__(self, task=None):
+        self._task = task
+        self._stage_ids: dict[int, int] = {}
+        self._solution_ids: dict[int, int] = {}
+        self._solutions: list = []  # keep registered solutions alive so their ids stay unique
+        self.stages: list[dict[str, Any]] = []
+        if task is not None:
+            self.update()
+
+    def reset(self) -> None:
+        """Forget solution ids (after ``Task.reset()``)."""
+        self._solution_ids.clear()
+        self._solutions.clear()
+        self.stages = []
+
+    def stageId(self, stage) -> int:
+        """Sequential id of a stage (the task has id 0)."""
+        if stage is self._task:
+            return 0
+        key = id(stage)
+        sid = self._stage_ids.get(key)
+        if sid is None:
+            sid = self._stage_ids[key] = len(self._stage_ids) + 1
+        return sid
+
+    def solutionId(self, solution) -> int:
+        """1-based id of a solution, in registration order."""
+        key = id(solution)
+        sid = self._solution_ids.get(key)
+        if sid is None:
+            sid = self._solution_ids[key] = len(self._solution_ids) + 1
+            self._solutions.append(solution)
+        return sid
+
+    def _info(self, solution) -> dict[str, Any]:
+        return {"id": self.solutionId(solution), "cost": solution.cost, "comment": solution.comment}
+
+    def update(self) -> None:
+        """Refresh the snapshot from the task."""
+        task = self._task
+        if task is None:
+            return
+        stages: list[dict[str, Any]] = []
+
+        def visit(stage, depth):
+            parent = stage._parent
+            stages.append(
+                {
+                    "id": self.stageId(stage),
+                    "parent_id": self.stageId(parent) if parent is not None else 0,
+                    "name": stage.name,
+                    "depth": depth,
+                    "flags": stage.interfaceFlags(),
+                    "solutions": [self._info(s) for s in stage._solutions],
+                    "failures": [self._info(s) for s in stage._failures],
+                    "num_failures": stage._num_failures,
+                    "total_compute_time": stage._total_compute_time,
+                    "properties": {k: p.serialize() for k, p in stage._properties.items()},
+                }
+            )
+            return True
+
+        task.stages.traverseRecursively(visit)
+        self.stages = stages
+
+    def to_dict(self) -> dict[str, Any]:
+        """The snapshot as plain data."""
+        return {"stages": self.stages}
+
+    def save(self, path) -> None:
+        """Write the snapshot as JSON (infinite costs as the string "inf")."""
+
+        def fix(obj):
+            if isinstance(obj, float) and obj != obj:
+                return "nan"
+            if isinstance(obj, float) and obj in (float("inf"), float("-inf")):
+                return "inf" if obj > 0 else "-inf"
+            if isinstance(obj, dict):
+                return {k: fix(v) for k, v in obj.items()}
+            if isinstance(obj, list):
+                return [fix(v) for v in obj]
+            return obj
+
+        with open(path, "w", encoding="utf-8") as f:
+            json.dump(fix(self.to_dict()), f, indent=1)
+
+    @classmethod
+    def load(cls, path) -> "Introspection":
+        """Read a snapshot written by :meth:`save`."""
+        with open(path, encoding="utf-8") as f:
+            data = json.load(f)
+        if not isinstance(data, dict) or "stages" not in data:
+            raise ValueError(f"{path}: not an mtc introspection file (no 'stages')")
+
+        def unfix(info):
+            c = info.get("cost")
+            if isinstance(c, str):
+                info["cost"] = float(c)
+            return info
+
+        obj = cls(None)
+        for st in data["stages"]:
+            st["solutions"] = [unfix(s) for s in st.get("solutions", [])]
+            st["failures"] = [unfix(s) for s in st.get("failures", [])]
+        obj.stages = data["stages"]
+        return obj
+
+
+def solution_to_msg(solution, introspection=None):
+    """``solution.toMsg()``: an ``mtc.msgs.Solution`` with one SubTrajectory per leaf, in order."""
+    from mtc import msgs
+
+    leaves: list = []
+    solution._leaves(leaves)
+    msg = msgs.Solution()
+    start = solution.start
+    if start is not None and hasattr(start.scene, "get_planning_scene_msg"):
+        msg.start_scene = start.scene.get_planning_scene_msg()
+    for leaf in leaves:
+        sub = msgs.SubTrajectory()
+        info = sub.info
+        info.id = introspection.solutionId(leaf) if introspection is not None else 0
+        info.cost = leaf.cost
+        info.comment = leaf.comment
+        info.stage_id = introspection.stageId(leaf.creator) if introspection is not None else 0
+        if leaf.creator is not None:
+            sub.execution_info.controller_names = list(leaf.creator.trajectoryExecutionInfo().controller_names)
+        if leaf.trajectory is not None:
+            sub.trajectory = leaf.trajectory.get_robot_trajectory_msg()
+        end_scene = leaf.end.scene if leaf.end is not None else None
+        if end_scene is not None:
+            if getattr(end_scene, "parent", None) is (leaf.start.scene if leaf.start is not None else None) and hasattr(
+                end_scene, "get_planning_scene_diff_msg"
+            ):
+                sub.scene_diff = end_scene.get_planning_scene_diff_msg()
+            elif hasattr(end_scene, "get_planning_scene_msg"):
+                sub.scene_diff = end_scene.get_planning_scene_msg()
+        msg.sub_trajectory.append(sub)
+    return msg

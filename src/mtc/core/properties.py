@@ -1,0 +1,601 @@
+"""Properties: typed, inheritable configuration values of stages and planners.
+
+A :class:`Property` holds a declared type, a description, a *default* and a *current*
+value and, optionally, an initializer that fills it from another :class:`PropertyMap`
+(the parent stage's map or an interface state's map). This follows MTC's
+``properties.h`` (``mtc_semantics.md`` §4.1, §4.2) including its error texts; the Python
+binding quirks of Appendix A are fixed (``bool(PropertyMap)``, int for float properties).
+
+Types are Python types, a tuple of types, ``None`` (any type) or a :class:`PropertyType`
+such as :data:`unsigned_int`. ``None`` is the *empty* value: a property whose current
+value is ``None`` is not ``defined()``.
+"""
+
+from __future__ import annotations
+
+import numbers
+from collections.abc import Callable, Iterable
+from enum import IntFlag
+from typing import Any
+
+__all__ = [
+    "Property",
+    "PropertyError",
+    "PropertyInitializerSource",
+    "PropertyMap",
+    "PropertyType",
+    "PropertyTypeError",
+    "TypedPropertyAccess",
+    "UndeclaredPropertyError",
+    "UndefinedPropertyError",
+    "unsigned_int",
+]
+
+
+class PropertyInitializerSource(IntFlag):
+    """Where a property may be initialized from (MTC's ``Stage::PropertyInitializerSource``)."""
+
+    DEFAULT = 0
+    MANUAL = 1
+    PARENT = 2
+    INTERFACE = 4
+
+
+# initialized_from values: 0 = set() (manual, persistent), 1 = setCurrent() (manual, temporary),
+# 2 = PARENT, 4 = INTERFACE, _NEVER = not initialized
+_SET_VALUE = 0
+_SET_CURRENT = 1
+_NEVER = 1 << 30
+
+
+class PropertyError(RuntimeError):
+    """Base of all property errors (MTC's ``Property::error``, a ``runtime_error``).
+
+    Attributes:
+        name: The property concerned, or "" when unknown.
+    """
+
+    def __init__(self, msg: str, name: str = ""):
+        super().__init__(msg)
+        self.msg = msg
+        self.name = name
+
+    def setName(self, name: str) -> None:
+        """Attach the property name (the message then starts with ``Property '<name>'``)."""
+        self.name = name
+
+    def __str__(self) -> str:
+        if self.name:
+            return f"Property '{self.name}': {self.msg}"
+        return f"Property: {self.msg}"
+
+
+class UndeclaredPropertyError(PropertyError, KeyError):
+    """The property is not declared in the map (MTC's ``Property::undeclared``)."""
+
+    def __init__(self, name: str, msg: str = "undeclared"):
+        super().__init__(msg, name)
+
+    __str__ = PropertyError.__str__
+
+
+class UndefinedPropertyError(PropertyError):
+    """The property has neither a current nor a default value (MTC's ``Property::undefined``)."""
+
+    def __init__(self, name: str, msg: str = "undefined"):
+        super().__init__(msg, name)
+
+
+class PropertyTypeError(PropertyError, TypeError):
+    """A value does not match the property's declared type (MTC's ``Property::type_error``)."""
+
+    def __init__(self, current_type: str, declared_type: str, name: str = ""):
+        super().__init__(f"type {current_type} doesn't match property's declared type {declared_type}", name)
+        self.current_type = current_type
+        self.declared_type = declared_type
+
+
+class PropertyType:
+    """A property type given by a name and a checking/converting function.
+
+    Args:
+        name: Type name shown in errors and introspection.
+        convert: ``convert(value) -> value``; raises ``TypeError`` or ``ValueError`` if
+            ``value`` is not acceptable, else returns the (possibly converted) value.
+    """
+
+    def __init__(self, name: str, convert: Callable[[Any], Any]):
+        self.name = name
+        self.convert = convert
+
+    def __repr__(self) -> str:
+        return f"PropertyType({self.name})"
+
+
+def _to_unsigned(value):
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise TypeError(type(value).__name__)
+    if value < 0:
+        raise ValueError(f"negative value {value}")
+    return int(value)
+
+
+#: Non-negative int (C++ ``unsigned int``/``size_t`` properties such as ``max_ik_solutions``).
+unsigned_int = PropertyType("unsigned int", _to_unsigned)
+
+
+def _type_name(t) -> str:
+    if t is None:
+        return "any"
+    if isinstance(t, PropertyType):
+        return t.name
+    if isinstance(t, tuple):
+        return " or ".join(_type_name(x) for x in t)
+    return getattr(t, "__name__", str(t))
+
+
+def _normalize_type(t):
+    if t is None or isinstance(t, PropertyType):
+        return t
+    if isinstance(t, type):
+        return t
+    if isinstance(t, tuple) and t and all(isinstance(x, type) for x in t):
+        return t
+    raise TypeError(f"property type must be a type, a tuple of types, a PropertyType or None, got {t!r}")
+
+
+def _coerce(value, declared):
+    """Return ``value`` converted to the declared type, or raise PropertyTypeError."""
+    if value is None or declared is None:
+        return value
+    if isinstance(declared, PropertyType):
+        try:
+            return declared.convert(value)
+        except (TypeError, ValueError):
+            raise PropertyTypeError(_value_type_name(value), declared.name) from None
+    types = declared if isinstance(declared, tuple) else (declared,)
+    is_bool = isinstance(value, bool)
+    for t in types:
+        # bool is an int in Python, but not a number for a numeric property (as pybind's casters)
+        if is_bool and t is not bool and t in (int, float):
+            continue
+        if isinstance(value, t):
+            return value
+    if not is_bool:
+        # ints are accepted for float properties (MTC Appendix A #12), numpy scalars for both
+        if float in types and isinstance(value, numbers.Real):
+            return float(value)
+        if int in types and isinstance(value, numbers.Integral):
+            return int(value)
+        if set in types and isinstance(value, frozenset):
+            return set(value)
+    raise PropertyTypeError(_value_type_name(value), _type_name(declared))
+
+
+def _value_type_name(value) -> str:
+    return type(value).__name__
+
+
+class Property:
+    """One property: declared type, description, default and current value.
+
+    Args:
+        type: Declared type (a type, tuple of types, :class:`PropertyType`) or None for any.
+        description: Human readable description.
+        default: Default value (None: no default).
+        convert: Optional ``convert(value) -> value`` applied to every assigned non-None
+            value before the type check (e.g. to accept a link name for a PoseStamped).
+    """
+
+    __slots__ = (
+        "_type",
+        "_description",
+        "_default",
+        "_value",
+        "_initializer",
+        "_source_flags",
+        "_initialized_from",
+        "_convert",
+    )
+
+    def __init__(self, type=None, description: str = "", default=None, convert=None):
+        self._type = _normalize_type(type)
+        self._description = description
+        self._convert = convert
+        self._default = None
+        self._value = None
+        self._initializer = None
+        self._source_flags = 0
+        self._initialized_from = _NEVER
+        if default is not None:
+            self._default = self._check(default)
+
+    # --- internal helpers -------------------------------------------------------------
+    def _check(self, value):
+        if value is None:
+            return None
+        if self._convert is not None:
+            value = self._convert(value)
+        return _coerce(value, self._type)
+
+    def _copy(self) -> "Property":
+        p = Property.__new__(Property)
+        p._type = self._type
+        p._description = self._description
+        p._default = self._default
+        p._value = self._value
+        p._initializer = self._initializer
+        p._source_flags = self._source_flags
+        p._initialized_from = self._initialized_from
+        p._convert = self._convert
+        return p
+
+    # --- MTC API ----------------------------------------------------------------------
+    def setValue(self, value) -> None:
+        """Set current *and* default value; survives :meth:`reset` (a manual, persistent value)."""
+        value = self._check(value)
+        self._value = value
+        self._default = value
+        self._initialized_from = _SET_VALUE
+
+    def setCurrentValue(self, value) -> None:
+        """Set the current value only; :meth:`reset` drops it again."""
+        self._value = self._check(value)
+        self._initialized_from = _SET_CURRENT
+
+    def setDefaultValue(self, value) -> None:
+        """Set the default value (the current value is untouched)."""
+        self._default = self._check(value)
+
+    def value(self):
+        """Current value if set, else the default (None if neither)."""
+        return self._value if self._value is not None else self._default
+
+    def defaultValue(self):
+        """The default value (None if none)."""
+        return self._default
+
+    def reset(self) -> None:
+        """Drop temporary and inherited values; a value given with :meth:`setValue` stays."""
+        if self._initialized_from == _SET_VALUE:
+            return
+        self._value = None
+        self._initialized_from = _NEVER
+
+    def defined(self) -> bool:
+        """True iff the *current* value is set (a default alone does not count, as in MTC)."""
+        return self._value is not None
+
+    def description(self) -> str:
+        """The description."""
+        return self._description
+
+    def setDescription(self, description: str) -> None:
+        """Change the description."""
+        self._description = description
+
+    def typeName(self) -> str:
+        """Name of the declared type, or of the value's type for an untyped property."""
+        if self._type is None:
+            v = self.value()
+            return "any" if v is None else _value_type_name(v)
+        return _type_name(self._type)
+
+    def declaredType(self):
+        """The declared type (None: any)."""
+        return self._type
+
+    def serialize(self) -> str:
+        """String form of the value ("" if it has none), as MTC's introspection shows it."""
+        v = self.value()
+        return "" if v is None else str(v)
+
+    def initsFrom(self, source: int) -> bool:
+        """Whether the property is configured to initialize from ``source``."""
+        return bool(self._source_flags & int(source))
+
+    def configureInitFrom(self, source: int, initializer: str | Callable[["PropertyMap"], Any]) -> "Property":
+        """Configure initialization from ``source`` (PARENT, INTERFACE or both OR-ed).
+
+        Args:
+            source: Source flags.
+            initializer: Name of the property to read from the other map, or a function
+                ``f(other_map) -> value``.
+
+        Raises:
+            PropertyError: Already configured for another source.
+        """
+        source = int(source)
+        if self._initializer is not None and self._source_flags != source:
+            raise PropertyError("Property was already configured for initialization from another source id")
+        if isinstance(initializer, str):
+            other_name = initializer
+            self._initializer = lambda other: other._raw(other_name)
+        elif callable(initializer):
+            self._initializer = initializer
+        else:
+            raise TypeError(f"initializer must be a property name or a callable, got {initializer!r}")
+        self._source_flags = source
+        return self
+
+    def __repr__(self) -> str:
+        return f"Property({self.typeName()}, value={self.value()!r})"
+
+
+class PropertyMap:
+    """Properties by name, iterated in name order (MTC's ``PropertyMap``)."""
+
+    __slots__ = ("_props",)
+
+    def __init__(self, values: dict | None = None):
+        self._props: dict[str, Property] = {}
+        if values:
+            self.update(values)
+
+    # --- declaration and access -------------------------------------------------------
+    _INFER = object()
+
+    def declare(self, name: str, default=None, description: str = "", type=_INFER, convert=None) -> Property:
+        """Declare a property (or return the existing one of the same type).
+
+        Args:
+            name: Property name.
+            default: Default value (None: undefined until set).
+            description: Description.
+            type: Declared type; by default the default value's type, or any if there is
+                no default.
+            convert: Optional conversion applied before type checks.
+
+        Raises:
+            PropertyTypeError: ``name`` exists with a different declared type.
+        """
+        if type is PropertyMap._INFER:
+            type = None if default is None else default.__class__
+        type = _normalize_type(type)
+        existing = self._props.get(name)
+        if existing is not None:
+            # as MTC: a redeclaration must match the type, unless the first one was "any"
+            if existing._type is not None and existing._type != type:
+                raise PropertyTypeError(_type_name(type), _type_name(existing._type), name)
+            return existing
+        p = Property(type, description, None, convert)
+        try:
+            p._default = p._check(default)
+        except PropertyError as e:
+            e.setName(name)
+            raise
+        self._props[name] = p
+        return p
+
+    def hasProperty(self, name: str) -> bool:
+        """Whether ``name`` is declared."""
+        return name in self._props
+
+    def property(self, name: str) -> Property:
+        """The :class:`Property` object of ``name``.
+
+        Raises:
+            UndeclaredPropertyError: ``name`` is not declared.
+        """
+        try:
+            return self._props[name]
+        except KeyError:
+            raise UndeclaredPropertyError(name) from None
+
+    def set(self, name: str, value) -> None:
+        """Set a persistent value, declaring the property with the value's type if needed."""
+        p = self._props.get(name)
+        if p is None:
+            if value is None:
+                raise UndeclaredPropertyError(name, f"trying to set undeclared property '{name}' with NULL value")
+            p = self.declare(name, type=value.__class__)
+        try:
+            p.setValue(value)
+        except PropertyError as e:
+            e.setName(name)
+            raise
+
+    def setCurrent(self, name: str, value) -> None:
+        """Set a temporary value (dropped by :meth:`reset`)."""
+        p = self.property(name)
+        try:
+            p.setCurrentValue(value)
+        except PropertyError as e:
+            e.setName(name)
+            raise
+
+    def _raw(self, name: str):
+        """Value (current or default, None if empty); raises UndeclaredPropertyError."""
+        p = self._props.get(name)
+        if p is None:
+            raise UndeclaredPropertyError(name)
+        return p.value()
+
+    _NO_FALLBACK = object()
+
+    def get(self, name: str, fallback=_NO_FALLBACK):
+        """The value of ``name`` (current, else default).
+
+        Args:
+            name: Property name.
+            fallback: Returned when the property has no value.
+
+        Raises:
+            UndeclaredPropertyError: ``name`` is not declared.
+            UndefinedPropertyError: No value and no fallback given.
+        """
+        value = self._raw(name)
+        if value is None:
+            if fallback is PropertyMap._NO_FALLBACK:
+                raise UndefinedPropertyError(name)
+            return fallback
+        return value
+
+    def countDefined(self, names: Iterable[str]) -> int:
+        """Number of ``names`` that have a value (defaults count, as in MTC)."""
+        return sum(1 for n in names if self._raw(n) is not None)
+
+    def reset(self) -> None:
+        """:meth:`Property.reset` every property."""
+        for p in self._props.values():
+            p.reset()
+
+    def copy(self) -> "PropertyMap":
+        """An independent copy (properties are copied, values are shared)."""
+        m = PropertyMap.__new__(PropertyMap)
+        m._props = {k: p._copy() for k, p in self._props.items()}
+        return m
+
+    # --- initialization ---------------------------------------------------------------
+    def configureInitFrom(self, source: int, names: str | Iterable[str] | None = None) -> None:
+        """Initialize the listed (default: all) declared properties from ``source``.
+
+        Undeclared names are ignored, as in MTC. A single ``str`` is one name.
+        """
+        if isinstance(names, str):
+            names = [names]
+        wanted = None if names is None else set(names)
+        for name, p in self._props.items():
+            # an empty list means all properties (MTC's default argument {})
+            if wanted and name not in wanted:
+                continue
+            try:
+                p.configureInitFrom(source, name)
+            except PropertyError as e:
+                e.setName(name)
+                raise
+
+    def performInitFrom(self, source: int, other: "PropertyMap") -> None:
+        """Initialize properties configured for ``source`` from ``other``.
+
+        A value from a higher-priority source (manual < PARENT < INTERFACE by number)
+        is kept; an undeclared name in ``other`` skips the property; an undefined one
+        sets it empty (so a later, lower-priority source may still fill it).
+
+        Raises:
+            PropertyTypeError: An inherited value has the wrong type.
+        """
+        source = int(source)
+        for name, p in self._props.items():
+            if p._initialized_from < source and p._value is not None:
+                continue
+            if not (p._source_flags & source):
+                continue
+            try:
+                value = p._initializer(other)
+            except UndeclaredPropertyError:
+                continue
+            except UndefinedPropertyError:
+                value = None
+            try:
+                p.setCurrentValue(value)
+            except PropertyError as e:
+                e.setName(name)
+                raise
+            p._initialized_from = source
+
+    def exposeTo(self, other: "PropertyMap", names: str | Iterable[str], other_name: str | None = None) -> None:
+        """Declare properties in ``other`` with the same type, description and default.
+
+        Args:
+            other: Target map.
+            names: One name or a list of names.
+            other_name: Name in ``other`` (only with a single name).
+        """
+        if isinstance(names, str):
+            pairs = [(names, other_name or names)]
+        else:
+            if other_name is not None:
+                raise TypeError("other_name is only allowed when exposing a single property")
+            pairs = [(n, n) for n in names]
+        for name, target in pairs:
+            p = self.property(name)
+            # as MTC: an existing declaration in other is kept as it is
+            other.declare(target, p._default, p._description, type=p._type, convert=p._convert)
+
+    # --- Python mapping protocol ------------------------------------------------------
+    def __getitem__(self, name: str):
+        return self._raw(name)
+
+    def __setitem__(self, name: str, value) -> None:
+        self.set(name, value)
+
+    def __contains__(self, name) -> bool:
+        return name in self._props
+
+    def __iter__(self):
+        return iter(sorted(self._props))
+
+    def __len__(self) -> int:
+        return len(self._props)
+
+    def __bool__(self) -> bool:
+        # MTC's binding returns True for an *empty* map (Appendix A #4); mtc fixes it
+        return bool(self._props)
+
+    def keys(self):
+        """Property names in name order."""
+        return sorted(self._props)
+
+    def items(self):
+        """``(name, Property)`` pairs in name order (the Property object, as MTC's binding)."""
+        return [(k, self._props[k]) for k in sorted(self._props)]
+
+    def update(self, values: dict) -> None:
+        """``set()`` every item of ``values``."""
+        for k, v in values.items():
+            self.set(k, v)
+
+    def __repr__(self) -> str:
+        return "PropertyMap({" + ", ".join(f"{k!r}: {self._props[k].value()!r}" for k in sorted(self._props)) + "})"
+
+
+class TypedPropertyAccess:
+    """Mixin: declared properties read and written as attributes (``stage.timeout = 5``).
+
+    The class provides ``_property_map()``. Reading an attribute that is a declared
+    property returns its value (an undefined one raises :class:`UndefinedPropertyError`);
+    writing one type-checks it (``TypeError`` on mismatch). Names starting with ``_`` and
+    names defined on the class are never treated as properties.
+    """
+
+    # property name -> function(value) -> attribute value (e.g. sets shown as sorted lists)
+    _attribute_getters: dict = {}
+
+    def _property_map(self) -> PropertyMap:  # pragma: no cover - overridden
+        raise NotImplementedError
+
+    def __getattr__(self, name: str):
+        # only called when normal lookup failed
+        if name.startswith("_"):
+            raise AttributeError(name)
+        try:
+            props = self._property_map()
+        except AttributeError:
+            props = None
+        if props is not None and name in props._props:
+            value = props.get(name)
+            getter = self._attribute_getters.get(name)
+            return getter(value) if getter else value
+        raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
+
+    def __setattr__(self, name: str, value) -> None:
+        if name[0] != "_" and not hasattr(type(self), name):
+            try:
+                props = self._property_map()
+            except AttributeError:
+                props = None
+            if props is not None:
+                p = props._props.get(name)
+                if p is not None:
+                    if value is None and p._type is not None:
+                        raise TypeError(
+                            f"property '{name}' expects {_type_name(p._type)}, got None"
+                        )
+                    try:
+                        p.setValue(value)
+                    except PropertyError as e:
+                        e.setName(name)
+                        raise
+                    return
+        object.__setattr__(self, name, value)

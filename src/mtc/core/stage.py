@@ -1,0 +1,1361 @@
+"""Stages: the base class and the primitive stage kinds (MTC's ``stage.h``, semantics §1.2, §1.5, §1.6).
+
+A stage reads states from its *pull* interfaces (``starts``/``ends``) and pushes new states
+into its neighbours' pull interfaces (``prev_ends``/``next_starts``). Which of the four it
+has is its interface, given by its kind (Generator, propagator, Connecting) or, for
+containers, resolved from the children when the task initializes.
+
+Lifecycle hooks for Python subclasses (each may call the base, but need not: ``mtc``'s own
+bookkeeping runs around them):
+
+* ``init(robot_model)``: validate configuration and resolve names; runs on every ``plan()``
+  after the stage's properties were reset and inherited from the parent.
+* ``reset()``: clear per-plan state.
+* ``canCompute()`` / ``compute()`` (Generator), ``computeForward(from_state)`` /
+  ``computeBackward(to_state)`` (propagators), ``compute(from_state, to_state)``
+  (Connecting), ``onNewSolution(solution)`` (MonitoringGenerator, containers).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import numbers
+import time
+from bisect import bisect_left, bisect_right
+from collections.abc import Callable, Iterable
+from enum import IntEnum
+
+import numpy as np
+
+from mtc.core.cost_terms import CostTerm, as_cost_term
+from mtc.core.properties import (
+    PropertyError,
+    PropertyInitializerSource,
+    PropertyMap,
+    TypedPropertyAccess,
+    UndeclaredPropertyError,
+)
+from mtc.core.storage import (
+    Interface,
+    InterfaceState,
+    Priority,
+    SolutionBase,
+    Solutions,
+    SubTrajectory,
+)
+
+__all__ = [
+    "CONNECT",
+    "GENERATE",
+    "PROPAGATE_BACKWARDS",
+    "PROPAGATE_FORWARDS",
+    "READS_END",
+    "READS_START",
+    "UNKNOWN",
+    "WRITES_NEXT_START",
+    "WRITES_PREV_END",
+    "ComputeBase",
+    "Connecting",
+    "Generator",
+    "InitStageError",
+    "MonitoringGenerator",
+    "PropagatingBackward",
+    "PropagatingEitherWay",
+    "PropagatingForward",
+    "Stage",
+    "TrajectoryExecutionInfo",
+    "flowSymbol",
+]
+
+log = logging.getLogger(__name__)
+INF = math.inf
+
+# --- interface flags (MTC's InterfaceFlag) ------------------------------------------------
+UNKNOWN = 0
+READS_START = 0x01
+READS_END = 0x02
+WRITES_NEXT_START = 0x04
+WRITES_PREV_END = 0x08
+CONNECT = READS_START | READS_END
+PROPAGATE_FORWARDS = READS_START | WRITES_NEXT_START
+PROPAGATE_BACKWARDS = READS_END | WRITES_PREV_END
+GENERATE = WRITES_PREV_END | WRITES_NEXT_START
+START_IF_MASK = READS_START | WRITES_PREV_END
+END_IF_MASK = READS_END | WRITES_NEXT_START
+
+FORWARD = Interface.FORWARD
+BACKWARD = Interface.BACKWARD
+
+
+def invert(flags: int) -> int:
+    """Swap reading and writing at each end (MTC's ``invert``)."""
+    out = 0
+    if flags & READS_START:
+        out |= WRITES_NEXT_START
+    if flags & WRITES_PREV_END:
+        out |= READS_END
+    if flags & READS_END:
+        out |= WRITES_PREV_END
+    if flags & WRITES_NEXT_START:
+        out |= READS_START
+    return out
+
+
+def flowSymbol(flags: int, mask: int) -> str:
+    """Arrow of the start (mask START_IF_MASK) or end (END_IF_MASK) part of an interface."""
+    f = flags & mask
+    if mask == START_IF_MASK:
+        if f == READS_START:
+            return "→"
+        if f == WRITES_PREV_END:
+            return "←"
+    else:
+        if f == READS_END:
+            return "←"
+        if f == WRITES_NEXT_START:
+            return "→"
+    if f == UNKNOWN:
+        return "?"
+    return "↔"
+
+
+def _start_sym(flags: int) -> str:
+    return flowSymbol(flags, START_IF_MASK)
+
+
+def _end_sym(flags: int) -> str:
+    return flowSymbol(flags, END_IF_MASK)
+
+
+class InitStageError(RuntimeError):
+    """Configuration errors of a stage tree, collected over the whole tree.
+
+    ``str()`` is MTC's text: ``Error initializing stage[s]:`` and one
+    ``<stage name>: <message>`` line per problem.
+
+    Args:
+        stage: The failing stage (optional).
+        msg: What is wrong with it.
+    """
+
+    def __init__(self, stage=None, msg: str | None = None):
+        super().__init__()
+        self.errors: list[tuple[object, str]] = []
+        if stage is not None:
+            self.errors.append((stage, msg or ""))
+
+    def push_back(self, stage, msg: str) -> None:
+        """Add a problem."""
+        self.errors.append((stage, msg))
+
+    def append(self, other: "InitStageError") -> None:
+        """Move all problems of ``other`` into this one."""
+        self.errors.extend(other.errors)
+        other.errors = []
+
+    def __bool__(self) -> bool:
+        return bool(self.errors)
+
+    def __len__(self) -> int:
+        return len(self.errors)
+
+    def __str__(self) -> str:
+        lines = ["Error initializing stage" + ("s" if len(self.errors) > 1 else "") + ":"]
+        for stage, msg in self.errors:
+            lines.append(f"{getattr(stage, 'name', stage)}: {msg}")
+        return "\n".join(lines)
+
+
+class PreemptStageError(Exception):
+    """Raised inside planning to abort the current step after ``Task.preempt()``."""
+
+
+class TrajectoryExecutionInfo:
+    """Settings for executing a stage's trajectories (MTC's ``TrajectoryExecutionInfo``)."""
+
+    __slots__ = ("controller_names",)
+
+    def __init__(self, controller_names: Iterable[str] = ()):
+        self.controller_names = list(controller_names)
+
+    def __eq__(self, other):
+        return isinstance(other, TrajectoryExecutionInfo) and self.controller_names == other.controller_names
+
+    def __repr__(self) -> str:
+        return f"TrajectoryExecutionInfo(controller_names={self.controller_names!r})"
+
+
+def _to_name_set(value) -> set:
+    """forwarded_properties accepts one name or an iterable of names (a str is one name)."""
+    if isinstance(value, (str, bytes)):
+        return {value.decode() if isinstance(value, bytes) else value}
+    try:
+        items = list(value)
+    except TypeError:
+        raise TypeError("Expecting a string or a list of strings") from None
+    for item in items:
+        if not isinstance(item, str):
+            raise TypeError("Expecting a string or a list of strings")
+    return set(items)
+
+
+class Stage(TypedPropertyAccess):
+    """Base of all stages.
+
+    Properties:
+        timeout: Timeout per run [s] (undefined by default).
+        marker_ns: Namespace of visualization markers (default: the stage name).
+        trajectory_execution_info: Settings used when executing the trajectory.
+        forwarded_properties: Names of interface-state properties to pass on.
+    """
+
+    PropertyInitializerSource = PropertyInitializerSource
+    PARENT = PropertyInitializerSource.PARENT
+    INTERFACE = PropertyInitializerSource.INTERFACE
+
+    _attribute_getters = {"forwarded_properties": lambda v: sorted(v)}
+
+    def __init__(self, name: str = "stage"):
+        if not isinstance(name, str):
+            raise TypeError(f"stage name must be a str, got {type(name).__name__}")
+        self._name = name
+        self._parent = None
+        self._properties = PropertyMap()
+        self._cost_term: CostTerm | None = None  # None: keep the stage's cost (plain CostTerm)
+        self._solutions = Solutions()
+        self._failures: list[SolutionBase] = []
+        self._num_failures = 0
+        self._starts: Interface | None = None
+        self._ends: Interface | None = None
+        self._prev_ends: Interface | None = None
+        self._next_starts: Interface | None = None
+        self._solution_cbs: list[Callable] = []
+        self._total_compute_time = 0.0
+        self._store_failures = False
+        self._introspection = None
+        self._preempt = None  # shared flag object of the task
+        self._init_done = False
+        p = self._properties
+        p.declare("timeout", None, "timeout per run (s)", type=float)
+        p.declare("marker_ns", name, "marker namespace")
+        p.declare("trajectory_execution_info", TrajectoryExecutionInfo(),
+                  "settings used when executing the trajectory")
+        p.declare("forwarded_properties", set(), "set of interface properties to forward", convert=_to_name_set)
+
+    # --- identity and tree ------------------------------------------------------------
+    @property
+    def name(self) -> str:
+        """The stage name."""
+        return self._name
+
+    @name.setter
+    def name(self, value: str) -> None:
+        if not isinstance(value, str):
+            raise TypeError(f"stage name must be a str, got {type(value).__name__}")
+        self._name = value
+
+    def setName(self, name: str) -> None:
+        """Rename the stage."""
+        self.name = name
+
+    @property
+    def parent(self):
+        """The container holding this stage (None at the top)."""
+        return self._parent
+
+    @property
+    def properties(self) -> PropertyMap:
+        """The stage's properties."""
+        return self._properties
+
+    def _property_map(self) -> PropertyMap:
+        return self._properties
+
+    def setProperty(self, name: str, value) -> None:
+        """Set a property (declared with the value's type if unknown)."""
+        self._properties.set(name, value)
+
+    def setTimeout(self, timeout: float) -> None:
+        """Set the ``timeout`` property [s]."""
+        self._properties.set("timeout", timeout)
+
+    def setMarkerNS(self, marker_ns: str) -> None:
+        """Set the ``marker_ns`` property."""
+        self._properties.set("marker_ns", marker_ns)
+
+    def markerNS(self) -> str:
+        """The ``marker_ns`` property."""
+        return self._properties.get("marker_ns")
+
+    def setTrajectoryExecutionInfo(self, info: TrajectoryExecutionInfo) -> None:
+        """Set the ``trajectory_execution_info`` property."""
+        self._properties.set("trajectory_execution_info", info)
+
+    def trajectoryExecutionInfo(self) -> TrajectoryExecutionInfo:
+        """The ``trajectory_execution_info`` property."""
+        return self._properties.get("trajectory_execution_info")
+
+    def setForwardedProperties(self, names) -> None:
+        """Names of interface-state properties that this stage copies to its new states."""
+        self._properties.set("forwarded_properties", names)
+
+    def forwardedProperties(self) -> set:
+        """The ``forwarded_properties`` set."""
+        return self._properties.get("forwarded_properties")
+
+    def forwardProperties(self, source: InterfaceState, dest: InterfaceState) -> None:
+        """Copy the forwarded properties present in ``source`` into ``dest``."""
+        names = self._properties._props["forwarded_properties"].value()
+        if not names:
+            return
+        src = source._properties
+        if not src:
+            return
+        dst = dest.properties
+        for name in names:
+            if name in src._props:
+                dst.set(name, src._raw(name))
+
+    # --- solutions ------------------------------------------------------------------------
+    @property
+    def solutions(self) -> Solutions:
+        """Successful solutions, cheapest first (ties in order of creation)."""
+        return self._solutions
+
+    @property
+    def failures(self) -> list:
+        """Failure solutions (stored only with introspection enabled)."""
+        return self._failures
+
+    def numSolutions(self) -> int:
+        """Number of successful solutions."""
+        return len(self._solutions)
+
+    def numFailures(self) -> int:
+        """Number of failures (counted even when they are not stored)."""
+        return self._num_failures
+
+    def silentFailure(self) -> None:
+        """Count a failure without a solution and without pruning (nothing to report)."""
+        self._num_failures += 1
+
+    def storeFailures(self) -> bool:
+        """Whether failure solutions are stored (task with introspection)."""
+        return self._store_failures
+
+    def getTotalComputeTime(self) -> float:
+        """Time spent in this stage's compute() [s]."""
+        return self._total_compute_time
+
+    def addSolutionCallback(self, callback: Callable) -> Callable:
+        """Call ``callback(solution)`` for every new solution (also stored failures).
+
+        Returns:
+            A handle for :meth:`removeSolutionCallback`.
+        """
+        if not callable(callback):
+            raise TypeError("solution callback must be callable")
+        self._solution_cbs.append(callback)
+        return callback
+
+    def removeSolutionCallback(self, handle: Callable) -> None:
+        """Remove a callback added with :meth:`addSolutionCallback`."""
+        for i, cb in enumerate(self._solution_cbs):
+            if cb is handle:
+                del self._solution_cbs[i]
+                return
+
+    def setCostTerm(self, term) -> None:
+        """Set how this stage computes the cost of its solutions.
+
+        Args:
+            term: A :class:`~mtc.core.cost_terms.CostTerm`, None (keep the stage's cost)
+                or a callable ``f(solution) -> cost | (cost, comment)``.
+        """
+        term = as_cost_term(term)
+        # a plain CostTerm keeps the cost: store None to skip evaluating it
+        self._cost_term = None if term is not None and type(term) is CostTerm else term
+
+    def costTerm(self) -> CostTerm:
+        """The cost term."""
+        return self._cost_term if self._cost_term is not None else CostTerm()
+
+    def introspectionId(self) -> int:
+        """Id of this stage in the task's introspection."""
+        if self._introspection is None:
+            raise RuntimeError("Task is not initialized yet or Introspection was disabled.")
+        return self._introspection.stageId(self)
+
+    def introspection(self):
+        """The task's introspection (None without)."""
+        return self._introspection
+
+    # --- lifecycle ------------------------------------------------------------------------
+    def reset(self) -> None:
+        """Clear solutions, failures, interfaces and inherited property values."""
+        self._resetBookkeeping()
+
+    def _resetBookkeeping(self) -> None:
+        self._solutions = Solutions()
+        self._failures = []
+        self._num_failures = 0
+        if self._starts is not None:
+            self._starts.clear()
+        if self._ends is not None:
+            self._ends.clear()
+        self._prev_ends = None
+        self._next_starts = None
+        self._properties.reset()
+        self._total_compute_time = 0.0
+
+    def _resetStage(self) -> None:
+        """Engine entry: bookkeeping, then the (possibly overridden) reset hook."""
+        self._resetBookkeeping()
+        self.reset()
+
+    def init(self, robot_model) -> None:
+        """Initialize before planning: reset properties and inherit from the parent."""
+        self._initProperties()
+        self._initFinish(robot_model)
+        self._init_done = True
+
+    def _initProperties(self) -> None:
+        self._properties.reset()
+        parent = self._parent
+        if parent is not None:
+            try:
+                self._properties.performInitFrom(PropertyInitializerSource.PARENT, parent._properties)
+            except PropertyError as e:
+                raise InitStageError(self, str(e) + parent._composePropertyErrorMsg(e.name)) from None
+
+    def _initFinish(self, robot_model) -> None:
+        """Kind-specific part of init that must run even if a subclass skips the base."""
+
+    def _initStage(self, robot_model) -> None:
+        """Engine entry: property bookkeeping, the init hook, and what the hook skipped."""
+        self._init_done = False
+        self._initProperties()
+        self.init(robot_model)
+        if not self._init_done:
+            self._initFinish(robot_model)
+
+    # --- interface -------------------------------------------------------------------------
+    def requiredInterface(self) -> int:
+        """The interface this stage needs (flags)."""
+        return UNKNOWN
+
+    def interfaceFlags(self) -> int:
+        """The interfaces this stage actually has (flags)."""
+        f = 0
+        if self._starts is not None:
+            f |= READS_START
+        if self._ends is not None:
+            f |= READS_END
+        if self._prev_ends is not None:
+            f |= WRITES_PREV_END
+        if self._next_starts is not None:
+            f |= WRITES_NEXT_START
+        return f
+
+    def _resolveInterface(self, expected: int) -> None:
+        """Resolve this stage's interface against what the parent expects (no-op by default)."""
+
+    def _validateConnectivity(self) -> None:
+        required = self.requiredInterface()
+        actual = self.interfaceFlags()
+        if (required & actual) != required:
+            raise InitStageError(
+                self,
+                f"actual interface {_start_sym(actual)} {_end_sym(actual)} does not match required interface "
+                f"{_start_sym(required)} {_end_sym(required)}",
+            )
+
+    def _pullInterface(self, direction: int) -> Interface | None:
+        return self._starts if direction == FORWARD else self._ends
+
+    @property
+    def starts(self) -> Interface | None:
+        """Pull interface of start states (None if the stage does not read starts)."""
+        return self._starts
+
+    @property
+    def ends(self) -> Interface | None:
+        """Pull interface of end states (None if the stage does not read ends)."""
+        return self._ends
+
+    # --- computing -------------------------------------------------------------------------
+    def _canCompute(self) -> bool:
+        return False
+
+    def _compute(self) -> None:
+        pass
+
+    def _runCompute(self) -> None:
+        preempt = self._preempt
+        if preempt is not None and preempt.requested:
+            raise PreemptStageError()
+        start = time.perf_counter()
+        try:
+            self._compute()
+        except PropertyError as e:
+            raise RuntimeError(str(e) + self._composePropertyErrorMsg(e.name)) from None
+        finally:
+            self._total_compute_time += time.perf_counter() - start
+
+    def _composePropertyErrorMsg(self, property_name: str) -> str:
+        """Where ``property_name`` is (un)defined, from this stage up to the root (MTC's texts)."""
+        if not property_name:
+            return ""
+        text = f"\nin stage '{self._name}': "
+        p = self._properties._props.get(property_name)
+        if p is None:
+            text += "undeclared"
+        elif p.defined():
+            return text + "defined here"
+        else:
+            text += "declared, but undefined"
+            if p.initsFrom(PropertyInitializerSource.PARENT):
+                text += ", inherits from parent"
+            if p.initsFrom(PropertyInitializerSource.INTERFACE):
+                text += ", initializes from interface"
+        parent = self._parent
+        # continue up to the root container; the task wrapper is not included
+        if parent is not None and parent._parent is not None:
+            text += parent._composePropertyErrorMsg(property_name)
+        return text
+
+    def reportPropertyError(self, error: PropertyError):
+        """Raise ``RuntimeError`` with ``error`` and where the property is (un)defined."""
+        raise RuntimeError(str(error) + self._composePropertyErrorMsg(error.name))
+
+    # --- solution storage (MTC's StagePrivate) ---------------------------------------------
+    def _storeSolution(self, solution: SolutionBase, from_state, to_state) -> bool:
+        solution._creator = self
+        cost = solution._cost
+        if not (-INF < cost < INF):
+            self._num_failures += 1
+            parent = self._parent
+            if parent is not None:
+                parent._onNewFailure(self, from_state, to_state)
+            if not self._store_failures:
+                return False  # drop solution
+            self._failures.append(solution)
+        else:
+            self._solutions.insert(solution)
+        return True
+
+    def _computeCost(self, from_state, to_state, solution: SolutionBase) -> None:
+        term = self._cost_term
+        if term is None:
+            return
+        cost = solution._cost
+        if not (-INF < cost < INF):
+            return  # no reason to compute costs of a failure
+        # the cost term sees the solution connected to its states and creator
+        solution._start = from_state
+        solution._end = to_state
+        solution._creator = self
+        try:
+            cost, comment = term._evaluate(solution)
+        finally:
+            solution._start = None
+            solution._end = None
+            solution._creator = None
+        solution._cost = cost
+        if comment:
+            solution._comment = f"{solution._comment} ({comment})" if solution._comment else comment
+
+    def _newSolution(self, solution: SolutionBase) -> None:
+        # callbacks see successes and (stored) failures
+        for cb in self._solution_cbs:
+            cb(solution)
+        parent = self._parent
+        if parent is not None:
+            cost = solution._cost
+            if -INF < cost < INF:
+                parent.onNewSolution(solution)
+
+    @staticmethod
+    def _fresh(state: InterfaceState) -> InterfaceState:
+        # MTC moves the given state into the stage's storage: a state that is already in
+        # use (owned or linked) is copied so the new solution gets its own state
+        if state._owner is not None or state.incoming or state.outgoing:
+            return state.copy()
+        return state
+
+    def _sendForward(self, from_state: InterfaceState, to_state: InterfaceState, solution: SolutionBase) -> None:
+        next_starts = self._next_starts
+        if next_starts is None:
+            raise RuntimeError(f"stage '{self._name}' cannot send forward: it has no next stage to write to")
+        to_state = self._fresh(to_state)
+        self._computeCost(from_state, to_state, solution)
+        if not self._storeSolution(solution, from_state, None):
+            return
+        self.forwardProperties(from_state, to_state)
+        solution._setStartState(from_state)
+        solution._setEndState(to_state)
+        cost = solution._cost
+        if -INF < cost < INF:
+            next_starts.add(to_state)
+        self._newSolution(solution)
+
+    def _sendBackward(self, from_state: InterfaceState, to_state: InterfaceState, solution: SolutionBase) -> None:
+        prev_ends = self._prev_ends
+        if prev_ends is None:
+            raise RuntimeError(f"stage '{self._name}' cannot send backward: it has no previous stage to write to")
+        from_state = self._fresh(from_state)
+        self._computeCost(from_state, to_state, solution)
+        if not self._storeSolution(solution, None, to_state):
+            return
+        self.forwardProperties(to_state, from_state)
+        solution._setStartState(from_state)
+        solution._setEndState(to_state)
+        cost = solution._cost
+        if -INF < cost < INF:
+            prev_ends.add(from_state)
+        self._newSolution(solution)
+
+    def _spawn(self, from_state: InterfaceState, to_state: InterfaceState, solution: SolutionBase) -> None:
+        prev_ends, next_starts = self._prev_ends, self._next_starts
+        if prev_ends is None or next_starts is None:
+            raise RuntimeError(f"stage '{self._name}' cannot spawn: it needs neighbours on both sides")
+        from_state = self._fresh(from_state)
+        to_state = self._fresh(to_state)
+        self._computeCost(from_state, to_state, solution)
+        if not self._storeSolution(solution, None, None):
+            return
+        solution._setStartState(from_state)
+        solution._setEndState(to_state)
+        cost = solution._cost
+        if -INF < cost < INF:
+            prev_ends.add(from_state)
+            next_starts.add(to_state)
+        self._newSolution(solution)
+
+    def _connect(self, from_state: InterfaceState, to_state: InterfaceState, solution: SolutionBase) -> None:
+        self._computeCost(from_state, to_state, solution)
+        if not self._storeSolution(solution, from_state, to_state):
+            return
+        solution._setStartState(from_state)
+        solution._setEndState(to_state)
+        self._newSolution(solution)
+
+    # --- printing ----------------------------------------------------------------------------
+    def _stateLine(self) -> str:
+        """One printState line: interface sizes, arrows, number of solutions, name."""
+        flags = self.interfaceFlags() | self.requiredInterface()
+
+        def size(i):
+            return f"{'-':>3}" if i is None else f"{len(i):>3}"
+
+        return (
+            f"{size(self._prev_ends)}{size(self._starts)} {_start_sym(flags)} {len(self._solutions):>3} "
+            f"{_end_sym(flags)} {size(self._ends)}{size(self._next_starts)} / {self._name}"
+        )
+
+    def __str__(self) -> str:
+        return self._stateLine()
+
+    def explainFailure(self, file=None) -> bool:
+        """Leaf stages have nothing more to say (containers name their failing child)."""
+        return False
+
+    def __repr__(self) -> str:
+        return f"<{type(self).__name__} '{self._name}'>"
+
+
+def _as_solution(value, what: str) -> SolutionBase:
+    if isinstance(value, SolutionBase):
+        return value
+    if isinstance(value, numbers.Real) and not isinstance(value, bool):
+        return SubTrajectory(None, float(value))
+    raise TypeError(f"{what}: expected a solution (e.g. SubTrajectory) or a cost, got {type(value).__name__}")
+
+
+def _as_state(value, what: str) -> InterfaceState:
+    if isinstance(value, InterfaceState):
+        return value
+    raise TypeError(f"{what}: expected an InterfaceState, got {type(value).__name__}")
+
+
+class ComputeBase(Stage):
+    """Base of the primitive (leaf) stages."""
+
+
+class Generator(ComputeBase):
+    """A stage that creates states on its own (interface GENERATE).
+
+    Subclasses implement ``canCompute()`` and ``compute()``, which calls :meth:`spawn`.
+    """
+
+    def __init__(self, name: str = "Generator"):
+        super().__init__(name)
+
+    def requiredInterface(self) -> int:
+        return GENERATE
+
+    def canCompute(self) -> bool:
+        """Whether :meth:`compute` can produce something now."""
+        raise NotImplementedError(f"{type(self).__name__} must implement canCompute()")
+
+    def compute(self) -> None:
+        """Produce solutions with :meth:`spawn`."""
+        raise NotImplementedError(f"{type(self).__name__} must implement compute()")
+
+    def _canCompute(self) -> bool:
+        return self.canCompute()
+
+    def _compute(self) -> None:
+        self.compute()
+
+    def spawn(self, *args, cost: float | None = None, solution: SolutionBase | None = None) -> None:
+        """Publish a new state (or a pair of start and end states) with a solution.
+
+        Forms: ``spawn(state, cost)``, ``spawn(state, solution)``,
+        ``spawn(from_state, to_state, solution)`` (a cost may replace the solution, also
+        as keyword ``cost=``).
+        """
+        if solution is not None and cost is not None:
+            raise TypeError("spawn(): give either a solution or a cost, not both")
+        extra = solution if solution is not None else cost
+        if extra is not None:
+            args = (*args, extra)
+        if len(args) == 2:
+            state = _as_state(args[0], "spawn()")
+            sol = _as_solution(args[1], "spawn()")
+            # the same scene at both ends: the start state is a copy of the end state
+            self._spawn(state.copy(), state, sol)
+        elif len(args) == 3:
+            self._spawn(_as_state(args[0], "spawn()"), _as_state(args[1], "spawn()"), _as_solution(args[2], "spawn()"))
+        else:
+            raise TypeError("spawn() takes (state, cost|solution) or (from_state, to_state, solution)")
+
+
+class MonitoringGenerator(Generator):
+    """A generator fed by the solutions of another (monitored) stage.
+
+    Subclasses implement ``onNewSolution(solution)``, called for every successful
+    solution of the monitored stage, before that stage's parent sees it.
+    """
+
+    def __init__(self, name: str = "generator", monitored: Stage | None = None):
+        super().__init__(name)
+        self._monitored = None
+        self._registered = False
+        self._cb = None
+        self.setMonitoredStage(monitored)
+
+    def setMonitoredStage(self, monitored: Stage | None) -> None:
+        """Watch the solutions of ``monitored``."""
+        if monitored is not None and not isinstance(monitored, Stage):
+            raise TypeError(f"setMonitoredStage() expects a Stage, got {type(monitored).__name__}")
+        if self._monitored is monitored:
+            return
+        if self._monitored is not None and self._registered:
+            self._monitored.removeSolutionCallback(self._cb)
+            self._registered = False
+        self._monitored = monitored
+
+    def monitoredStage(self) -> Stage | None:
+        """The monitored stage."""
+        return self._monitored
+
+    def _initFinish(self, robot_model) -> None:
+        if self._monitored is None:
+            raise InitStageError(self, "no monitored stage defined")
+        if not self._registered:  # register only once
+            def callback(solution, me=self):
+                # forward only successful solutions
+                cost = solution._cost
+                if -INF < cost < INF:
+                    me.onNewSolution(solution)
+
+            self._cb = self._monitored.addSolutionCallback(callback)
+            self._registered = True
+
+    def onNewSolution(self, solution: SolutionBase) -> None:
+        """Called with each successful solution of the monitored stage."""
+        raise NotImplementedError(f"{type(self).__name__} must implement onNewSolution(solution)")
+
+    def _onNewSolution(self, solution: SolutionBase) -> None:
+        """The base implementation (for Python subclasses that want to delegate)."""
+        MonitoringGenerator.onNewSolution(self, solution)
+
+    def canCompute(self) -> bool:
+        return False
+
+    def compute(self) -> None:
+        pass
+
+
+class _Direction(IntEnum):
+    AUTO = 0
+    FORWARD = 1
+    BACKWARD = 2
+
+
+class PropagatingEitherWay(ComputeBase):
+    """A stage that computes a new state from a start state (forward) or an end state (backward).
+
+    The direction is derived from the neighbours at init, or fixed with
+    :meth:`restrictDirection`. Subclasses override ``computeForward(from_state)`` and
+    ``computeBackward(to_state)`` and call :meth:`sendForward` / :meth:`sendBackward`, or
+    override ``compute(state, direction)`` returning ``(success, end_scene, sub_trajectory)``.
+    """
+
+    Direction = _Direction
+    AUTO = _Direction.AUTO
+    FORWARD = _Direction.FORWARD
+    BACKWARD = _Direction.BACKWARD
+
+    def __init__(self, name: str = "PropagatingEitherWay"):
+        super().__init__(name)
+        self._configured_dir = _Direction.AUTO
+        self._required_interface = UNKNOWN
+        self._initInterface(_Direction.AUTO)
+
+    def requiredInterface(self) -> int:
+        return self._required_interface
+
+    def _initInterface(self, direction: int) -> None:
+        if direction == _Direction.FORWARD:
+            self._required_interface = PROPAGATE_FORWARDS
+            if self._starts is None:  # keep an existing interface
+                self._starts = Interface()
+            self._ends = None
+        elif direction == _Direction.BACKWARD:
+            self._required_interface = PROPAGATE_BACKWARDS
+            self._starts = None
+            if self._ends is None:
+                self._ends = Interface()
+        else:
+            self._required_interface = UNKNOWN
+
+    def restrictDirection(self, direction) -> None:
+        """Allow only one direction (FORWARD or BACKWARD).
+
+        Raises:
+            RuntimeError: A different direction was configured before.
+        """
+        direction = _Direction(int(direction))
+        if self._configured_dir == direction:
+            return
+        if self._configured_dir != _Direction.AUTO:
+            raise RuntimeError("Cannot change direction after being connected")
+        self._configured_dir = direction
+        self._initInterface(direction)
+
+    def _resolveInterface(self, expected: int) -> None:
+        if expected == UNKNOWN:
+            raise InitStageError(self, "cannot initialize to unknown interface")
+        if (expected & START_IF_MASK) == READS_START or (expected & END_IF_MASK) == WRITES_NEXT_START:
+            direction = _Direction.FORWARD
+        elif (expected & START_IF_MASK) == WRITES_PREV_END or (expected & END_IF_MASK) == READS_END:
+            direction = _Direction.BACKWARD
+        else:
+            raise InitStageError(
+                self, f"propagator cannot satisfy expected interface {_start_sym(expected)} {_end_sym(expected)}"
+            )
+        if self._configured_dir != _Direction.AUTO and direction != self._configured_dir:
+            req = self._required_interface
+            raise InitStageError(
+                self,
+                f"configured interface ({_start_sym(req)} {_end_sym(req)}) does not match expected one "
+                f"({_start_sym(expected)} {_end_sym(expected)})",
+            )
+        self._initInterface(direction)
+
+    def _canCompute(self) -> bool:
+        s = self._starts
+        if s is not None and s._states and s._keys[0][0] == 0:
+            return True
+        e = self._ends
+        return e is not None and bool(e._states) and e._keys[0][0] == 0
+
+    def _compute(self) -> None:
+        s = self._starts
+        if s is not None and s._states and s._keys[0][0] == 0:
+            state = s.pop()
+            if state._properties:
+                self._properties.performInitFrom(PropertyInitializerSource.INTERFACE, state._properties)
+            self.computeForward(state)
+        e = self._ends
+        if e is not None and e._states and e._keys[0][0] == 0:
+            state = e.pop()
+            if state._properties:
+                self._properties.performInitFrom(PropertyInitializerSource.INTERFACE, state._properties)
+            self.computeBackward(state)
+
+    def computeForward(self, from_state: InterfaceState) -> None:
+        """Propagate ``from_state`` forward (default: :meth:`compute` then send)."""
+        self._computeGeneric(FORWARD, from_state)
+
+    def computeBackward(self, to_state: InterfaceState) -> None:
+        """Propagate ``to_state`` backward (default: :meth:`compute` then send)."""
+        self._computeGeneric(BACKWARD, to_state)
+
+    def compute(self, state: InterfaceState, direction: int):
+        """Compute the other end of ``state``: return ``(success, scene, sub_trajectory)``."""
+        raise NotImplementedError("PropagatingEitherWay: Override compute() or compute[Forward|Backward]()")
+
+    def _computeGeneric(self, direction: int, state: InterfaceState) -> None:
+        result = self.compute(state, direction)
+        try:
+            ok, scene, trajectory = result
+        except (TypeError, ValueError):
+            raise TypeError("compute(state, direction) must return (success, scene, sub_trajectory)") from None
+        if trajectory is None:
+            trajectory = SubTrajectory()
+        if not ok and not trajectory.comment:
+            self.silentFailure()  # nothing to report
+            return
+        if not ok and not trajectory.isFailure:
+            trajectory.markAsFailure()
+        if scene is None:
+            scene = state.scene.diff()
+        if direction == FORWARD:
+            self._sendForward(state, InterfaceState(scene), trajectory)
+        else:
+            self._sendBackward(InterfaceState(scene), state, trajectory)
+
+    def sendForward(self, from_state: InterfaceState, to_state: InterfaceState, solution) -> None:
+        """Publish ``to_state`` as the end of a solution starting at ``from_state``."""
+        self._sendForward(_as_state(from_state, "sendForward()"), _as_state(to_state, "sendForward()"),
+                          _as_solution(solution, "sendForward()"))
+
+    def sendBackward(self, from_state: InterfaceState, to_state: InterfaceState, solution) -> None:
+        """Publish ``from_state`` as the start of a solution ending at ``to_state``."""
+        self._sendBackward(_as_state(from_state, "sendBackward()"), _as_state(to_state, "sendBackward()"),
+                           _as_solution(solution, "sendBackward()"))
+
+
+class PropagatingForward(PropagatingEitherWay):
+    """A propagator that only works forward."""
+
+    def __init__(self, name: str = "PropagatingForward"):
+        super().__init__(name)
+        self.restrictDirection(_Direction.FORWARD)
+
+    def computeBackward(self, to_state: InterfaceState) -> None:
+        raise RuntimeError(f"{self._name}: a forward propagator never computes backward")
+
+
+class PropagatingBackward(PropagatingEitherWay):
+    """A propagator that only works backward."""
+
+    def __init__(self, name: str = "PropagatingBackward"):
+        super().__init__(name)
+        self.restrictDirection(_Direction.BACKWARD)
+
+    def computeForward(self, from_state: InterfaceState) -> None:
+        raise RuntimeError(f"{self._name}: a backward propagator never computes forward")
+
+
+# ----------------------------------------------------------------------------------------
+# Connecting
+# ----------------------------------------------------------------------------------------
+
+
+class _Pair:
+    """A pending (start, end) pair of a Connecting stage."""
+
+    __slots__ = ("start", "end", "key", "alive")
+
+    def __init__(self, start: InterfaceState, end: InterfaceState):
+        self.start = start
+        self.end = end
+        self.key = None
+        self.alive = True
+
+    def __iter__(self):
+        yield self.start
+        yield self.end
+
+    def __repr__(self) -> str:
+        return f"({self.start._priority}, {self.end._priority})"
+
+
+def _pair_key(pair: _Pair) -> tuple:
+    """Sort key of a pending pair (MTC's ``StatePair::less``).
+
+    Pairs with both states enabled come first; then the sum of both priorities decides
+    (status = min of both, larger depth sum first, smaller cost sum first).
+    """
+    a = pair.start._priority
+    b = pair.end._priority
+    sa, sb = a[0], b[0]
+    return (0 if sa == 0 and sb == 0 else 1, sa if sa < sb else sb, a[1] + b[1], a[2] + b[2])
+
+
+class _PendingPairs:
+    """The pending pairs of a Connecting stage: MTC's ``ordered<StatePair>`` list.
+
+    The list order is exactly MTC's: a new pair is inserted with ``upper_bound`` (after
+    equal ones); after a state's priority changes the list is stable-sorted. For speed,
+    each pair keeps the key it was positioned with; a stable sort after changes of some
+    states only moves the pairs of those states (a moved pair whose key got worse lands
+    at the front of its new group of equal keys, one whose key got better at the back, as
+    a stable sort places them). If states change priority without the list being
+    re-sorted (MTC does that in a few pruning situations) the list is no longer sorted
+    and the exact, slow algorithms of ``std::upper_bound`` and ``std::list::sort`` on
+    current keys are used until the next full sort.
+    """
+
+    __slots__ = ("_pairs", "_keys", "_sorted", "_by_state", "_foreign", "_owner")
+
+    def __init__(self, owner: "Connecting"):
+        self._owner = owner
+        self._pairs: list[_Pair] = []
+        self._keys: list[tuple] = []
+        self._sorted = True
+        self._by_state: dict[InterfaceState, list[_Pair]] = {}
+        self._foreign = False
+
+    def __len__(self) -> int:
+        return len(self._pairs)
+
+    def __iter__(self):
+        return iter(self._pairs)
+
+    def clear(self) -> None:
+        for p in self._pairs:
+            p.alive = False
+        self._pairs.clear()
+        self._keys.clear()
+        self._by_state.clear()
+        self._sorted = True
+        self._foreign = False
+
+    def front(self) -> _Pair:
+        return self._pairs[0]
+
+    def _index(self, pair: _Pair) -> int:
+        i = bisect_left(self._keys, pair.key)
+        pairs = self._pairs
+        while pairs[i] is not pair:
+            i += 1
+        return i
+
+    def _register(self, pair: _Pair) -> None:
+        by = self._by_state
+        for s in (pair.start, pair.end):
+            lst = by.get(s)
+            if lst is None:
+                by[s] = [pair]
+            else:
+                lst.append(pair)
+
+    def insert(self, start: InterfaceState, end: InterfaceState) -> _Pair:
+        pair = _Pair(start, end)
+        owner = self._owner
+        if start._owner is not owner._starts or end._owner is not owner._ends:
+            # pairs of another stage's states (Fallbacks' CONNECT variant): their priority
+            # changes are not notified here, so keys can go stale at any time
+            self._foreign = True
+            self._sorted = False
+        if self._sorted:
+            key = _pair_key(pair)
+            pair.key = key
+            i = bisect_right(self._keys, key)
+            self._keys.insert(i, key)
+            self._pairs.insert(i, pair)
+        else:
+            i = self._upper_bound_current(pair)
+            self._pairs.insert(i, pair)
+        self._register(pair)
+        return pair
+
+    def _upper_bound_current(self, pair: _Pair) -> int:
+        # libstdc++'s std::upper_bound on the (possibly unsorted) list with current keys
+        key = _pair_key(pair)
+        pairs = self._pairs
+        first, length = 0, len(pairs)
+        while length > 0:
+            half = length >> 1
+            middle = first + half
+            if key < _pair_key(pairs[middle]):
+                length = half
+            else:
+                first = middle + 1
+                length = length - half - 1
+        return first
+
+    def pop(self) -> _Pair:
+        pair = self._pairs.pop(0)
+        if self._sorted:
+            del self._keys[0]
+        pair.alive = False
+        for s in (pair.start, pair.end):
+            lst = self._by_state.get(s)
+            if lst is not None:
+                try:
+                    lst.remove(pair)
+                except ValueError:
+                    pass
+                if not lst:
+                    del self._by_state[s]
+        return pair
+
+    def pairsOf(self, state: InterfaceState) -> list[_Pair]:
+        """Pending pairs containing ``state``, in list order."""
+        lst = self._by_state.get(state)
+        if not lst:
+            return []
+        if len(lst) == 1:
+            return list(lst)
+        order = {id(p): i for i, p in enumerate(self._pairs)} if not self._sorted else None
+        if order is not None:
+            return sorted(lst, key=lambda p: order[id(p)])
+        return sorted(lst, key=lambda p: (p.key, self._index(p)))
+
+    def markUnsorted(self) -> None:
+        """Keys changed without a re-sort (MTC leaves its list unsorted then)."""
+        if self._sorted:
+            self._sorted = False
+            self._keys.clear()
+
+    def sort(self, changed: Iterable[InterfaceState]) -> None:
+        """Stable re-sort after the priorities of ``changed`` states changed."""
+        if not self._sorted or self._foreign:
+            self._full_sort()
+            return
+        by = self._by_state
+        moved = []
+        seen = set()
+        for s in changed:
+            for p in by.get(s, ()):
+                if id(p) not in seen:
+                    seen.add(id(p))
+                    moved.append(p)
+        if not moved:
+            return
+        keys = self._keys
+        pairs = self._pairs
+        worse = []
+        better = []
+        for p in moved:
+            new = _pair_key(p)
+            old = p.key
+            if new == old:
+                continue  # a stable sort leaves it where it is
+            i = self._index(p)
+            (worse if old < new else better).append((i, p, new))
+        if not worse and not better:
+            return
+        # remove all moved pairs (from the back, so earlier indices stay valid)
+        for i, _p, _k in sorted(worse + better, key=lambda t: t[0], reverse=True):
+            del keys[i]
+            del pairs[i]
+        # worse: at the front of their new group, keeping their old relative order
+        for _i, p, new in sorted(worse, key=lambda t: t[0], reverse=True):
+            j = bisect_left(keys, new)
+            keys.insert(j, new)
+            pairs.insert(j, p)
+            p.key = new
+        # better: at the back of their new group, keeping their old relative order
+        for _i, p, new in sorted(better, key=lambda t: t[0]):
+            j = bisect_right(keys, new)
+            keys.insert(j, new)
+            pairs.insert(j, p)
+            p.key = new
+
+    def _full_sort(self) -> None:
+        pairs = self._pairs
+        for p in pairs:
+            p.key = _pair_key(p)
+        pairs.sort(key=lambda p: p.key)  # stable, as std::list::sort
+        if self._foreign:
+            return  # keys may go stale again at any time
+        self._keys = [p.key for p in pairs]
+        self._sorted = True
+
+    def hasPendingOpposites(self, direction: int, source, target) -> bool:
+        """MTC's ``hasPendingOpposites<dir>``: is ``target`` still paired with another enabled state?"""
+        for pair in self._pairs:
+            if direction == FORWARD:
+                src, tgt = pair.start, pair.end
+            else:
+                src, tgt = pair.end, pair.start
+            if tgt is target and src is not source and src._priority[0] == 0:
+                return True
+            # early stop when only infeasible pairs are to come
+            if pair.start._priority[0] != 0 or pair.end._priority[0] != 0:
+                break
+        return False
+
+    def __repr__(self) -> str:
+        return " ".join(repr(p) for p in self._pairs) or "---"
+
+
+class Connecting(ComputeBase):
+    """A stage that connects a start state and an end state (interface CONNECT).
+
+    Every compatible (start, end) pair is queued; subclasses implement
+    ``compute(from_state, to_state)`` and call :meth:`connect`.
+    """
+
+    def __init__(self, name: str = "connecting"):
+        super().__init__(name)
+        self._starts = Interface(self._newStartState)
+        self._ends = Interface(self._newEndState)
+        self._pending = _PendingPairs(self)
+
+    def requiredInterface(self) -> int:
+        return CONNECT
+
+    @property
+    def pending(self) -> _PendingPairs:
+        """The pending (start, end) pairs in processing order."""
+        return self._pending
+
+    def _resetBookkeeping(self) -> None:
+        self._pending.clear()
+        super()._resetBookkeeping()
+
+    def _canCompute(self) -> bool:
+        pairs = self._pending._pairs
+        if not pairs:
+            return False
+        front = pairs[0]
+        return front.start._priority[0] == 0 and front.end._priority[0] == 0
+
+    def _compute(self) -> None:
+        pair = self._pending.pop()
+        self.compute(pair.start, pair.end)
+
+    def compute(self, from_state: InterfaceState, to_state: InterfaceState) -> None:
+        """Connect ``from_state`` to ``to_state`` (call :meth:`connect` with the solution)."""
+        raise NotImplementedError(f"{type(self).__name__} must implement compute(from_state, to_state)")
+
+    def connect(self, from_state: InterfaceState, to_state: InterfaceState, solution, cost: float | None = None) -> None:
+        """Publish a solution connecting two states (optionally with this cost)."""
+        sol = _as_solution(solution, "connect()")
+        if cost is not None:
+            sol.cost = cost
+        self._connect(from_state, to_state, sol)
+
+    # --- state notifications (MTC's ConnectingPrivate::newState) ----------------------
+    def _newStartState(self, state: InterfaceState, updated: int) -> None:
+        self._newState(BACKWARD, state, updated)
+
+    def _newEndState(self, state: InterfaceState, updated: int) -> None:
+        self._newState(FORWARD, state, updated)
+
+    def _newState(self, direction: int, state: InterfaceState, updated: int) -> None:
+        # direction BACKWARD: a start state (its opposites are the ends), FORWARD: an end state
+        parent = self._parent
+        own = self._starts if direction == BACKWARD else self._ends
+        other = self._ends if direction == BACKWARD else self._starts
+        pending = self._pending
+        # disable the opposite interface's notifications to break the recursion
+        with other.disableNotify():
+            if updated:
+                if (updated & Interface.STATUS) and own.notify is not None:
+                    status = state._priority[0]
+                    if status == 2:  # PRUNED becomes ARMED on the opposite side
+                        status = 1
+                    for pair in pending.pairsOf(state):
+                        o = pair.end if direction == BACKWARD else pair.start
+                        if o._priority[0] == status:
+                            continue
+                        if status != 0:
+                            # an enabled alternative in the state's own interface cancels
+                            if any(alt._priority[0] == 0 for alt in own._states):
+                                continue
+                        # FORWARD for a start state's opposite, BACKWARD for an end state's
+                        parent._setStatus(1 - direction, None, None, o, status)
+                changed = [state, *other._silent, *own._silent]
+                other._silent.clear()
+                own._silent.clear()
+                pending.sort(changed)
+            else:
+                have_enabled_opposites = False
+                to_enable = []
+                for o in list(other._states):
+                    # as MTC: the new state is always the first argument
+                    if not self.compatible(state, o):
+                        continue
+                    ostatus = o._priority[0]
+                    if ostatus == 1:  # ARMED: re-enable
+                        to_enable.append(o)
+                        have_enabled_opposites = True
+                    elif ostatus == 0:
+                        have_enabled_opposites = True
+                    # remember all pairs, whatever their status
+                    if direction == BACKWARD:
+                        pending.insert(state, o)
+                    else:
+                        pending.insert(o, state)
+                for o in to_enable:
+                    parent._setStatus(1 - direction, self, state, o, 0)
+                if not have_enabled_opposites and parent is not None and parent._pruning():
+                    parent._setStatus(direction, None, None, state, 1)
+                if other._silent or own._silent:
+                    # MTC does not re-sort here: its list is now unsorted
+                    other._silent.clear()
+                    own._silent.clear()
+                    pending.markUnsorted()
+
+    def hasPendingOpposites(self, direction: int, source, target) -> bool:
+        """Whether ``target`` still has an enabled partner other than ``source`` (§1.6)."""
+        return self._pending.hasPendingOpposites(direction, source, target)
+
+    def compatible(self, from_state: InterfaceState, to_state: InterfaceState) -> bool:
+        """Whether two states' scenes agree on world and attached objects (poses within 1e-4)."""
+        return scenes_compatible(from_state.scene, to_state.scene, self._name)
+
+
+def _close(a, b, tol: float = 1e-4) -> bool:
+    return bool(np.all(np.abs(np.asarray(a, dtype=float) - np.asarray(b, dtype=float)) <= tol))
+
+
+def scenes_compatible(a, b, name: str = "") -> bool:
+    """MTC's ``Connecting::compatible`` on two planning scenes (reasons logged at debug level)."""
+    if a is b:
+        return True
+    a_names = list(a.world_object_names)
+    b_names = set(b.world_object_names)
+    if len(a_names) != len(b_names):
+        log.debug("%s: different number of collision objects", name)
+        return False
+    for obj_name in a_names:
+        if obj_name not in b_names:
+            log.debug("%s: object missing: %s", name, obj_name)
+            return False
+        oa = a.get_world_object(obj_name)
+        ob = b.get_world_object(obj_name)
+        if not _close(oa.pose, ob.pose):
+            log.debug("%s: different object pose: %s", name, obj_name)
+            return False
+        if len(oa.shape_poses) != len(ob.shape_poses):
+            log.debug("%s: different object shapes: %s", name, obj_name)
+            return False
+        for pa, pb in zip(oa.shape_poses, ob.shape_poses):
+            if not _close(pa, pb):
+                log.debug("%s: different shape pose: %s", name, obj_name)
+                return False
+    a_att = list(a.attached_object_names)
+    b_att = set(b.attached_object_names)
+    if len(a_att) != len(b_att):
+        log.debug("%s: different number of objects", name)
+        return False
+    for obj_name in a_att:
+        if obj_name not in b_att:
+            log.debug("%s: object missing: %s", name, obj_name)
+            return False
+        oa = a.get_attached_object(obj_name)
+        ob = b.get_attached_object(obj_name)
+        if oa.link != ob.link:
+            log.debug("%s: different attach links: %s attached to %s vs. %s", name, obj_name, oa.link, ob.link)
+            return False
+        sa, sb = oa.object.shape_poses, ob.object.shape_poses
+        if len(sa) != len(sb):
+            log.debug("%s: different object shapes: %s", name, obj_name)
+            return False
+        # shape poses in the link frame
+        for pa, pb in zip(sa, sb):
+            if not _close(np.asarray(oa.object.pose) @ np.asarray(pa), np.asarray(ob.object.pose) @ np.asarray(pb)):
+                log.debug("%s: different pose of attached object shape: %s", name, obj_name)
+                return False
+    return True
