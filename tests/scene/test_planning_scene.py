@@ -1,0 +1,707 @@
+"""Tests of mtc.scene.planning_scene: world and attached objects, collision truth, frames, diff()."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from scene_helpers import (
+    BASE_ONLY_XYZ,
+    HAND_ONLY_XYZ,
+    box,
+    cube_mesh,
+    obj,
+    pose,
+    snapshot,
+    sphere,
+    translation,
+    write_cube_stl,
+)
+
+from mtc import msgs
+from mtc.msgs import CollisionObject, SolidPrimitive
+from mtc.scene.planning_scene import DescriptionError, PlanningScene, mesh_file_to_msg
+from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+#: a self-colliding Panda state: only panda_link1 and panda_link5 touch
+SELF_COLLIDING = [-1.726, 1.544, -2.348, -3.057, -1.026, 3.718, -1.363, 0.033, 0.033]
+#: a 2 x 8 x 10 cm object between the open fingers, touching the hand and both fingers
+HELD = dict(xyz=(0.307, 0.0, 0.487), size=(0.02, 0.08, 0.1))
+#: a plate below the fingertips that only the held object reaches
+PLATE = dict(xyz=(0.307, 0.0, 0.43), size=(0.3, 0.3, 0.02))
+FINGERS = ["panda_leftfinger", "panda_rightfinger"]
+
+
+def held_scene(scene):
+    scene.apply_collision_object(box("obj", HELD["xyz"], HELD["size"]))
+    return scene
+
+
+# ---------------------------------------------------------------------------- basics
+def test_new_scene(panda):
+    """A new scene: the model, planning frame world, an empty world, default state, SRDF's ACM."""
+    ps = PlanningScene(panda)
+    assert ps.robot_model is panda
+    assert ps.planning_frame == "world"
+    assert ps.world_object_names == [] and ps.attached_object_names == []
+    np.testing.assert_array_equal(ps.current_state.positions, RobotState(panda).positions)
+    assert ps.allowed_collision_matrix.get_entry("panda_link0", "panda_link1")
+    assert not ps.allowed_collision_matrix.get_entry("panda_link0", "panda_hand")
+    assert ps.parent is None
+    with pytest.raises(TypeError, match="RobotModel"):
+        PlanningScene("panda")
+
+
+def test_current_state_is_live_and_assignable(scene, panda, toy):
+    """current_state is the scene's own state; assigning copies a state in; a foreign model is refused."""
+    scene.current_state.joint_positions = {"panda_joint1": 0.4}
+    assert scene.current_state.positions[0] == 0.4
+    other = RobotState(panda)
+    scene.current_state = other
+    other.joint_positions = {"panda_joint1": 1.0}
+    assert scene.current_state.positions[0] == 0.0
+    with pytest.raises(ValueError, match="different robot model"):
+        scene.current_state = RobotState(toy)
+    with pytest.raises(TypeError, match="RobotState"):
+        scene.current_state = [0.0] * 9
+
+
+@pytest.mark.parametrize("arm", ["ready", "extended", "transport"])
+@pytest.mark.parametrize("hand", ["open", "close"])
+def test_no_self_collision_at_named_states(scene, arm, hand):
+    """The SRDF's disabled pairs make every named state of the default robot collision-free."""
+    scene.current_state.set_to_default_values("panda_arm", arm)
+    scene.current_state.set_to_default_values("hand", hand)
+    assert scene.get_collisions() == []
+    assert not scene.is_state_colliding()
+
+
+def test_self_collision_and_acm(scene):
+    """A folded arm collides with itself; allowing that pair in the ACM clears it."""
+    state = scene.current_state
+    state.positions = SELF_COLLIDING
+    assert scene.get_collisions() == [("panda_link1", "panda_link5")]
+    assert scene.is_state_colliding()
+    assert scene.is_state_colliding(group="panda_arm")
+    assert not scene.is_state_colliding(group="hand")  # the hand group moves neither link
+    scene.allowed_collision_matrix.set_entry("panda_link1", "panda_link5", True)
+    assert not scene.is_state_colliding()
+    assert scene.get_collisions() == []
+
+
+# ---------------------------------------------------------------------------- collision truth
+def test_box_through_the_hand_collides_and_moved_away_does_not(scene):
+    """A box at the hand collides with it; MOVEd 30 cm away it does not."""
+    scene.apply_collision_object(box("b", (0.307, 0.0, 0.56), (0.04, 0.04, 0.04)))
+    assert scene.is_state_colliding()
+    assert ("panda_hand", "b") in scene.get_collisions()
+    moved = CollisionObject(id="b", header=msgs.Header(frame_id="world"), pose=pose((0.307, 0.3, 0.56)), operation=CollisionObject.MOVE)
+    scene.apply_collision_object(moved)
+    np.testing.assert_allclose(translation(scene.get_world_object("b").pose), [0.307, 0.3, 0.56])
+    assert not scene.is_state_colliding()
+    assert scene.get_collisions() == []
+
+
+def test_allowed_pairs_do_not_collide(scene):
+    """ACM entries for every touching link, or a default entry for the object, clear the collision."""
+    scene.apply_collision_object(box("b", (0.307, 0.0, 0.6), (0.04, 0.04, 0.04)))
+    touching = sorted({a for a, b in scene.get_collisions()})
+    assert touching == ["panda_hand", "panda_link7"]
+    child = scene.diff()
+    child.allowed_collision_matrix.set_entry("b", touching, True)
+    assert not child.is_state_colliding() and child.get_collisions() == []
+    child = scene.diff()
+    child.allowed_collision_matrix.set_entry("b", "panda_hand", True)
+    assert child.get_collisions() == [("panda_link7", "b")]
+    child = scene.diff()
+    child.allowed_collision_matrix.set_default_entry("b", True)
+    assert not child.is_state_colliding()
+    assert scene.is_state_colliding()
+
+
+def test_get_collisions_reports_each_body_pair_once(scene):
+    """Links with several shapes (the fingers) give one pair each."""
+    held_scene(scene)
+    pairs = scene.get_collisions()
+    assert sorted(pairs) == [("panda_hand", "obj"), ("panda_leftfinger", "obj"), ("panda_rightfinger", "obj")]
+    contacts = scene.get_contacts()
+    assert {(a, b) for a, b, _ in contacts} == set(pairs)
+    for _, _, c in contacts:
+        position, normal, depth = c[0]
+        assert position.shape == (3,) and normal.shape == (3,) and np.isfinite(depth)
+
+
+def test_distance_to_collision_decreases_as_a_box_approaches(scene):
+    """distance_to_collision shrinks monotonically as a box moves toward the hand, <= 0 in contact."""
+    assert scene.distance_to_collision() == float("inf")
+    distances = []
+    for y in (0.6, 0.45, 0.3, 0.2, 0.12, 0.0):
+        scene.apply_collision_object(box("b", (0.307, y, 0.56), (0.04, 0.04, 0.04)))
+        distances.append(scene.distance_to_collision())
+    assert all(a > b for a, b in zip(distances, distances[1:])), distances
+    assert distances[0] > 0.3 and distances[-1] <= 0.0
+    assert scene.is_state_colliding()
+
+
+def test_collision_distances(scene):
+    """collision_distances lists world pairs ascending, or self pairs when asked."""
+    scene.apply_collision_object(box("b", (0.307, 0.3, 0.56), (0.04, 0.04, 0.04)))
+    world = scene.collision_distances()
+    assert [d for d, _, _ in world] == sorted(d for d, _, _ in world)
+    assert all(b == "b" for _, _, b in world)
+    assert world[0][0] == pytest.approx(scene.distance_to_collision())
+    selfd = scene.collision_distances(world=False, self_collision=True)
+    assert selfd and all("b" not in (a, b) for _, a, b in selfd)
+    assert all(d > 0 for d, _, _ in selfd)
+
+
+def test_group_restriction_ignores_links_the_group_does_not_move(scene):
+    """A box at the base collides for the whole robot only: no group moves panda_link0."""
+    scene.apply_collision_object(box("base_box", BASE_ONLY_XYZ, (0.04, 0.04, 0.04)))
+    assert scene.get_collisions() == [("panda_link0", "base_box")]
+    assert scene.is_state_colliding()
+    for group in ("hand", "panda_arm", "panda_arm_hand"):
+        assert not scene.is_state_colliding(group=group), group
+        assert scene.get_collisions(group=group) == []
+        assert scene.distance_to_collision(group=group) > 0
+
+
+@pytest.mark.parametrize("group", [None, "panda_arm_hand", "hand", "panda_arm"])
+def test_box_touching_only_the_hand_collides_for_groups_that_move_it(scene, group):
+    """A box touching only panda_hand collides for every group that moves the hand (hand, arm, both)."""
+    scene.apply_collision_object(box("b", HAND_ONLY_XYZ, (0.02, 0.02, 0.02)))
+    assert scene.get_collisions() == [("panda_hand", "b")]
+    assert scene.is_state_colliding(group=group)
+    assert scene.get_collisions(group=group) == [("panda_hand", "b")]
+    assert scene.distance_to_collision(group=group) < 0
+    assert not scene.check_states(scene.current_state.positions[None], group=group)[0]
+
+
+def test_unknown_group_in_checks(scene):
+    """Collision queries with an unknown group name it and the groups."""
+    for call in (scene.is_state_colliding, scene.get_collisions, scene.distance_to_collision, scene.state_validity_checker):
+        with pytest.raises(KeyError, match=r"'arm'.*panda_arm"):
+            call(group="arm")
+
+
+def test_checkers_agree_with_is_state_colliding(scene, panda):
+    """state_validity_checker, check_states, is_state_colliding and get_collisions agree on random states."""
+    rng = np.random.default_rng(42)
+    for i in range(6):
+        scene.apply_collision_object(sphere(f"s{i}", (rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6), rng.uniform(0.1, 0.8)), 0.12))
+    state = RobotState(panda)
+    Q = []
+    for _ in range(150):
+        state.set_to_random_positions(rng=rng)
+        Q.append(state.positions.copy())
+    Q = np.array(Q)
+    for group in (None, "panda_arm", "hand"):
+        valid = scene.check_states(Q, group=group)
+        checker = scene.state_validity_checker(group)
+        expected = []
+        for q in Q:
+            s = RobotState(panda, q)
+            colliding = scene.is_state_colliding(s, group=group)
+            assert colliding == bool(scene.get_collisions(s, group=group))
+            expected.append(not colliding)
+            assert checker(q) == (not colliding)
+        np.testing.assert_array_equal(valid, expected)
+        if group is None:
+            assert 0.1 < valid.mean() < 0.95  # both outcomes occur
+    with pytest.raises(ValueError, match=r"n x 9"):
+        scene.check_states(np.zeros((3, 7)))
+
+
+def test_is_state_valid_checks_bounds_too(scene):
+    """is_state_valid: collision-free and inside the joint limits."""
+    assert scene.is_state_valid()
+    scene.current_state.joint_positions = {"panda_joint4": 0.0}
+    assert not scene.is_state_valid() and not scene.is_state_colliding()
+
+
+def test_is_path_valid(scene, panda):
+    """A trajectory sweeping through a box is invalid; the same away from it, or with the box gone, is valid."""
+    start = scene.current_state.copy()
+    traj = RobotTrajectory(panda, "panda_arm")
+    for angle in np.linspace(0.0, 1.0, 11):
+        s = start.copy()
+        s.joint_positions = {"panda_joint1": angle}
+        traj.append(s, 0.1)
+    end = traj[-1].get_global_link_transform("panda_hand")
+    mid = traj[5].get_global_link_transform("panda_hand")
+    assert scene.is_path_valid(traj)
+    scene.apply_collision_object(box("b", tuple(translation(mid) - [0, 0, 0.06]), (0.03, 0.03, 0.03)))
+    assert not scene.is_state_colliding(traj[0]) and not scene.is_state_colliding(traj[-1])
+    assert not scene.is_path_valid(traj)
+    assert not scene.is_path_valid(traj, group="panda_arm")
+    assert translation(end)[1] > 0.2
+    scene.apply_collision_object(CollisionObject(id="b", operation=CollisionObject.REMOVE))
+    assert scene.is_path_valid(traj)
+    bad = traj.copy()
+    bad[3].joint_positions = {"panda_joint4": 0.0}  # beyond the joint limit
+    assert not scene.is_path_valid(bad)
+
+
+# ---------------------------------------------------------------------------- primitives and meshes
+@pytest.mark.parametrize(
+    "kind, dims, xyz, expected",
+    [
+        (SolidPrimitive.SPHERE, [0.1], (0.5, 0.0, 0.0), 0.35),
+        (SolidPrimitive.BOX, [0.2, 0.4, 0.6], (0.5, 0.0, 0.0), 0.35),  # x is the first dimension
+        (SolidPrimitive.BOX, [0.2, 0.4, 0.6], (0.0, 0.7, 0.0), 0.45),  # y the second
+        (SolidPrimitive.BOX, [0.2, 0.4, 0.6], (0.0, 0.0, -0.8), 0.45),  # z the third
+        (SolidPrimitive.CYLINDER, [0.4, 0.1], (0.5, 0.0, 0.0), 0.35),  # [height, radius], radius sideways
+        (SolidPrimitive.CYLINDER, [0.4, 0.1], (0.0, 0.0, -0.8), 0.55),  # height along z
+        (SolidPrimitive.CONE, [0.4, 0.1], (0.0, 0.0, -0.8), 0.55),
+        (SolidPrimitive.CONE, [0.4, 0.1], (0.5, 0.0, 0.25), 0.35),  # base (radius 0.1) at the bottom
+    ],
+    ids=["sphere", "box-x", "box-y", "box-z", "cylinder-radius", "cylinder-height", "cone-height", "cone-base"],
+)
+def test_primitive_dimensions(cube_scene, kind, dims, xyz, expected):
+    """Each primitive's dimensions mean what SolidPrimitive says: distances to a 10 cm cube by hand."""
+    cube_scene.apply_collision_object(obj("p", kind, dims, xyz))
+    assert cube_scene.distance_to_collision() == pytest.approx(expected, abs=1e-6)
+    # slide the cube (prismatic joint along x) into objects to its +x
+    if xyz[0] > 0:
+        cube_scene.current_state.joint_positions = {"slide": expected + 0.01}
+        assert cube_scene.is_state_colliding()
+        cube_scene.current_state.joint_positions = {"slide": expected - 0.01}
+        assert not cube_scene.is_state_colliding()
+
+
+def test_shape_poses_and_object_pose_compose(cube_scene):
+    """A shape's pose is relative to the object's pose (a rotation about z carries it around)."""
+    o = obj("p", SolidPrimitive.SPHERE, [0.1], xyz=(0.0, 0.0, 0.0), quat=(0.0, 0.0, np.sin(np.pi / 4), np.cos(np.pi / 4)))
+    o.primitive_poses = [pose((0.5, 0.0, 0.0))]  # after the object's 90 degree turn: at +y
+    cube_scene.apply_collision_object(o)
+    wo = cube_scene.get_world_object("p")
+    np.testing.assert_allclose(translation(wo.pose @ wo.shape_poses[0]), [0.0, 0.5, 0.0], atol=1e-12)
+    assert cube_scene.distance_to_collision() == pytest.approx(0.35, abs=1e-6)
+    cube_scene.current_state.joint_positions = {"slide": 0.5}  # sliding along x does not reach it
+    assert not cube_scene.is_state_colliding()
+
+
+def test_mesh_from_message(cube_scene):
+    """A msgs.Mesh cube collides like the box it describes."""
+    o = CollisionObject(id="m", header=msgs.Header(frame_id="world"), pose=pose((0.5, 0.0, 0.0)), meshes=[cube_mesh(0.2)], mesh_poses=[pose()])
+    cube_scene.apply_collision_object(o)
+    assert cube_scene.get_world_object("m").shapes[0] is not None
+    assert cube_scene.distance_to_collision() == pytest.approx(0.35, abs=1e-6)
+    cube_scene.current_state.joint_positions = {"slide": 0.36}
+    assert cube_scene.is_state_colliding()
+
+
+def test_mesh_from_file(cube_scene, tmp_path):
+    """An STL file loaded (and scaled) into a message collides where it is."""
+    path = write_cube_stl(tmp_path / "cube.stl", 0.1)
+    mesh = mesh_file_to_msg(path, scale=(2.0, 2.0, 2.0))
+    assert len(mesh.triangles) == 12
+    xs = [p.x for p in mesh.vertices]
+    assert min(xs) == pytest.approx(-0.1) and max(xs) == pytest.approx(0.1)
+    o = CollisionObject(id="m", header=msgs.Header(frame_id="world"), pose=pose((0.5, 0.0, 0.0)), meshes=[mesh], mesh_poses=[pose()])
+    cube_scene.apply_collision_object(o)
+    assert cube_scene.distance_to_collision() == pytest.approx(0.35, abs=1e-6)
+
+
+def test_mesh_file_errors(tmp_path):
+    """A missing mesh file and a file that is no mesh both name the file."""
+    with pytest.raises(FileNotFoundError, match="ghost.stl"):
+        mesh_file_to_msg(str(tmp_path / "ghost.stl"))
+    junk = tmp_path / "junk.stl"
+    junk.write_text("not a mesh at all")
+    with pytest.raises(DescriptionError, match="junk.stl"):
+        mesh_file_to_msg(str(junk))
+
+
+# ---------------------------------------------------------------------------- object operations
+def test_add_replaces_an_object_of_the_same_id(scene):
+    """ADD of an existing id replaces it (shapes and pose)."""
+    scene.apply_collision_object(box("b", (1.0, 0.0, 0.0)))
+    scene.apply_collision_object(sphere("b", (2.0, 0.0, 0.0), 0.1))
+    wo = scene.get_world_object("b")
+    assert scene.world_object_names == ["b"]
+    assert wo.id == "b" and len(wo.shapes) == 1 and wo.shapes[0].type == SolidPrimitive.SPHERE
+    np.testing.assert_allclose(translation(wo.pose), [2.0, 0.0, 0.0])
+
+
+def test_remove_one_and_remove_all(scene):
+    """REMOVE with an id removes that object; with an empty id every world object, not attached ones."""
+    for i in range(3):
+        scene.apply_collision_object(box(f"b{i}", (1.0 + i, 0.0, 0.0)))
+    held_scene(scene)
+    scene.attach_object("obj", "panda_hand")
+    scene.apply_collision_object(CollisionObject(id="b1", operation=CollisionObject.REMOVE))
+    assert scene.world_object_names == ["b0", "b2"]
+    scene.apply_collision_object(CollisionObject(id="", operation=CollisionObject.REMOVE))
+    assert scene.world_object_names == []
+    assert scene.attached_object_names == ["obj"]
+    scene.apply_collision_object(box("b", (1.0, 0.0, 0.0)))
+    scene.remove_all_collision_objects()
+    assert scene.world_object_names == []
+
+
+def test_append_adds_shapes_to_an_object(scene):
+    """APPEND adds shapes (and subframes) to an existing object, keeping its pose; to a new id it adds one."""
+    scene.apply_collision_object(box("b", (0.307, 0.3, 0.56), (0.04, 0.04, 0.04)))
+    assert not scene.is_state_colliding()
+    extra = box("b", (0.307, 0.0, 0.56), (0.04, 0.04, 0.04))
+    extra.operation = CollisionObject.APPEND
+    extra.subframe_names, extra.subframe_poses = ["top"], [pose((0.0, 0.0, 0.02))]
+    scene.apply_collision_object(extra)
+    wo = scene.get_world_object("b")
+    assert len(wo.shapes) == 2
+    np.testing.assert_allclose(translation(wo.pose), [0.307, 0.3, 0.56])
+    np.testing.assert_allclose(translation(wo.pose @ wo.shape_poses[1]), [0.307, 0.0, 0.56], atol=1e-12)
+    np.testing.assert_allclose(translation(scene.get_frame_transform("b/top")), [0.307, 0.0, 0.58], atol=1e-12)
+    assert scene.get_collisions()[0][1] == "b"
+    new = box("c", (2.0, 0.0, 0.0))
+    new.operation = CollisionObject.APPEND
+    scene.apply_collision_object(new)
+    assert scene.world_object_names == ["b", "c"]
+
+
+def test_header_frame_of_a_link(scene):
+    """An object given in a link frame is placed at that link's pose times the object pose."""
+    scene.apply_collision_object(box("b", (0.0, 0.0, 0.1034), frame="panda_hand"))
+    np.testing.assert_allclose(
+        scene.get_world_object("b").pose, scene.current_state.get_global_link_transform("panda_hand_tcp"), atol=1e-12
+    )
+    # the object stays in the world when the arm moves afterwards
+    before = scene.get_frame_transform("b")
+    scene.current_state.joint_positions = {"panda_joint1": 0.5}
+    np.testing.assert_array_equal(scene.get_frame_transform("b"), before)
+
+
+def test_header_frame_of_an_object_subframe(scene):
+    """An object may be placed relative to another object's subframe."""
+    base = box("base", (1.0, 0.0, 0.0))
+    base.subframe_names, base.subframe_poses = ["top"], [pose((0.0, 0.0, 0.5), quat=(0.0, 0.0, 1.0, 0.0))]
+    scene.apply_collision_object(base)
+    scene.apply_collision_object(box("on_top", (0.1, 0.0, 0.0), frame="base/top"))
+    np.testing.assert_allclose(translation(scene.get_frame_transform("on_top")), [0.9, 0.0, 0.5], atol=1e-12)
+
+
+def test_subframes_of_world_objects(scene):
+    """Subframes are frames 'object/subframe' relative to the object's pose."""
+    o = box("tool", (0.5, 0.2, 0.3), quat=(0.0, 0.0, np.sin(np.pi / 4), np.cos(np.pi / 4)))
+    o.subframe_names, o.subframe_poses = ["tip", "grip"], [pose((0.1, 0.0, 0.0)), pose((0.0, 0.0, -0.05))]
+    scene.apply_collision_object(o)
+    assert sorted(scene.get_world_object("tool").subframe_poses) == ["grip", "tip"]
+    np.testing.assert_allclose(translation(scene.get_frame_transform("tool/tip")), [0.5, 0.3, 0.3], atol=1e-12)
+    np.testing.assert_allclose(translation(scene.get_frame_transform("tool/grip")), [0.5, 0.2, 0.25], atol=1e-12)
+    assert scene.knows_frame_transform("tool/tip")
+    assert not scene.knows_frame_transform("tool/nose")
+
+
+def test_frame_transforms(scene):
+    """Frames: the planning frame (and "") are identity; links; objects; unknown ones raise naming what exists."""
+    np.testing.assert_array_equal(scene.get_frame_transform("world"), np.eye(4))
+    np.testing.assert_array_equal(scene.get_frame_transform(""), np.eye(4))
+    np.testing.assert_allclose(
+        scene.get_frame_transform("panda_hand_tcp"), scene.current_state.get_global_link_transform("panda_hand_tcp")
+    )
+    scene.apply_collision_object(box("b", (1.0, 0.0, 0.0)))
+    assert scene.knows_frame_transform("b") and scene.knows_frame_transform("panda_link3")
+    assert not scene.knows_frame_transform("tool0")
+    with pytest.raises(KeyError) as e:
+        scene.get_frame_transform("tool0")
+    msg = str(e.value)
+    assert "'tool0'" in msg and "panda_hand_tcp" in msg and "b" in msg.split("objects:")[1]
+
+
+# ---------------------------------------------------------------------------- attach / detach
+def test_attach_keeps_the_pose_and_moves_with_the_link(scene):
+    """Attaching keeps the object's world pose; it then follows its link; detaching leaves it there."""
+    held = box("obj", HELD["xyz"], HELD["size"])
+    held.subframe_names, held.subframe_poses = ["tip"], [pose((0.0, 0.0, -0.05))]
+    scene.apply_collision_object(held)
+    world_pose = scene.get_frame_transform("obj")
+    scene.attach_object("obj", "panda_hand", touch_links=FINGERS)
+    assert scene.world_object_names == [] and scene.attached_object_names == ["obj"]
+    att = scene.get_attached_object("obj")
+    assert att.link == "panda_hand" and att.id == "obj"
+    assert att.touch_links == set(FINGERS)
+    np.testing.assert_allclose(scene.get_frame_transform("obj"), world_pose, atol=1e-12)
+    # the object's pose is now relative to the link
+    hand = scene.current_state.get_global_link_transform("panda_hand")
+    np.testing.assert_allclose(hand @ att.object.pose, world_pose, atol=1e-12)
+
+    state = scene.current_state
+    state.joint_positions = {"panda_joint1": 0.6, "panda_joint6": 1.2}
+    hand = state.get_global_link_transform("panda_hand")
+    expected = hand @ att.object.pose
+    np.testing.assert_allclose(scene.get_frame_transform("obj"), expected, atol=1e-12)
+    np.testing.assert_allclose(state.get_frame_transform("obj"), expected, atol=1e-12)
+    tip = expected.copy()
+    tip[:3, 3] += expected[:3, 2] * -0.05
+    np.testing.assert_allclose(state.get_frame_transform("obj/tip"), tip, atol=1e-12)
+    np.testing.assert_allclose(scene.get_frame_transform("obj/tip"), tip, atol=1e-12)
+    assert state.knows_frame_transform("obj/tip") and not state.knows_frame_transform("obj/nose")
+
+    scene.detach_object("obj")
+    assert scene.world_object_names == ["obj"] and scene.attached_object_names == []
+    np.testing.assert_allclose(scene.get_world_object("obj").pose, expected, atol=1e-12)
+    state.joint_positions = {"panda_joint1": 0.0}
+    np.testing.assert_allclose(scene.get_frame_transform("obj"), expected, atol=1e-12)  # stays put
+    np.testing.assert_allclose(scene.get_frame_transform("obj/tip"), tip, atol=1e-12)
+    assert not state.knows_frame_transform("obj")
+
+
+def test_attached_object_collides_with_the_world_not_its_touch_links(scene):
+    """Held between the fingers: no collision with hand and fingers (touch links), but with a plate below."""
+    held_scene(scene)
+    assert len(scene.get_collisions()) == 3
+    scene.attach_object("obj", "panda_hand", touch_links=FINGERS)
+    assert scene.get_collisions() == [] and not scene.is_state_colliding()
+    scene.apply_collision_object(box("plate", PLATE["xyz"], PLATE["size"]))
+    assert scene.get_collisions() == [("plate", "obj")]
+    assert scene.is_state_colliding()
+    assert scene.is_state_colliding(group="panda_arm")  # the arm moves the hand that holds it
+    assert scene.distance_to_collision() < 0
+    scene.allowed_collision_matrix.set_entry("obj", "plate", True)
+    assert not scene.is_state_colliding()
+
+
+def test_attached_object_collides_with_a_world_object_for_the_hand_group(scene):
+    """An object held by panda_hand moves with the hand group, so its world collisions count for 'hand'."""
+    held_scene(scene)
+    scene.attach_object("obj", "panda_hand", touch_links=FINGERS)
+    scene.apply_collision_object(box("plate", PLATE["xyz"], PLATE["size"]))
+    assert scene.is_state_colliding(group="hand")
+
+
+def test_attach_link_is_always_a_touch_link(scene):
+    """Without touch links only the attach link may touch the object: the fingers still collide."""
+    held_scene(scene)
+    scene.attach_object("obj", "panda_hand")
+    assert scene.get_attached_object("obj").touch_links == frozenset()
+    assert sorted(scene.get_collisions()) == [("panda_leftfinger", "obj"), ("panda_rightfinger", "obj")]
+    scene.detach_object("obj")
+    scene.attach_object("obj", "panda_hand", touch_links="panda_leftfinger")
+    assert scene.get_collisions() == [("panda_rightfinger", "obj")]
+
+
+def test_attached_collision_object_messages(scene):
+    """AttachedCollisionObject ADD attaches a new object given in the link frame; REMOVE detaches."""
+    o = box("tool", (0.0, 0.0, 0.05), (0.02, 0.02, 0.02), frame="panda_hand_tcp")
+    msg = msgs.AttachedCollisionObject(link_name="panda_hand", object=o, touch_links=FINGERS)
+    scene.apply_attached_collision_object(msg)
+    assert scene.attached_object_names == ["tool"]
+    tcp = scene.current_state.get_global_link_transform("panda_hand_tcp")
+    np.testing.assert_allclose(translation(scene.get_frame_transform("tool")), translation(tcp) + tcp[:3, 2] * 0.05, atol=1e-12)
+    out = scene.get_attached_collision_object_msg("tool")
+    assert out.link_name == "panda_hand" and out.touch_links == FINGERS and out.object.id == "tool"
+    # attaching an existing world object by id alone
+    scene.apply_collision_object(box("b", (0.307, 0.0, 0.45)))
+    scene.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_link8", object=CollisionObject(id="b")))
+    assert scene.get_attached_object("b").link == "panda_link8"
+    with pytest.raises(KeyError, match=r"'b' is attached to 'panda_link8', not 'panda_hand'"):
+        scene.apply_attached_collision_object(
+            msgs.AttachedCollisionObject(link_name="panda_hand", object=CollisionObject(id="b", operation=CollisionObject.REMOVE))
+        )
+    scene.apply_attached_collision_object(
+        msgs.AttachedCollisionObject(link_name="panda_hand", object=CollisionObject(operation=CollisionObject.REMOVE))
+    )
+    assert scene.attached_object_names == ["b"] and "tool" in scene.world_object_names
+    scene.apply_attached_collision_object(msgs.AttachedCollisionObject(object=CollisionObject(operation=CollisionObject.REMOVE)))
+    assert scene.attached_object_names == []
+
+
+def test_scene_messages_round_trip(scene):
+    """get_planning_scene_msg describes the world; re-applying an object message reproduces it."""
+    o = box("b", (0.5, 0.2, 0.3), (0.1, 0.2, 0.3), quat=(0.0, 0.0, np.sin(0.3), np.cos(0.3)))
+    o.subframe_names, o.subframe_poses = ["s"], [pose((0.0, 0.0, 0.15))]
+    scene.apply_collision_object(o)
+    msg = scene.get_planning_scene_msg()
+    assert [c.id for c in msg.world.collision_objects] == ["b"]
+    assert msg.robot_state.joint_state.name == scene.robot_model.variable_names
+    other = PlanningScene(scene.robot_model)
+    other.apply_collision_object(scene.get_collision_object_msg("b"))
+    np.testing.assert_allclose(other.get_world_object("b").pose, scene.get_world_object("b").pose, atol=1e-9)
+    np.testing.assert_allclose(other.get_frame_transform("b/s"), scene.get_frame_transform("b/s"), atol=1e-9)
+
+
+# ---------------------------------------------------------------------------- ACM
+def test_acm_entries(scene):
+    """set_entry with names or lists, get_entry, set_default_entry; explicit entries win over defaults."""
+    acm = scene.allowed_collision_matrix
+    assert acm.get_entry("panda_hand", "panda_link7")  # from the SRDF
+    acm.set_entry("a", ["b", "c"], True)
+    assert acm.get_entry("a", "b") and acm.get_entry("c", "a") and not acm.get_entry("b", "c")
+    acm.set_entry("a", False)  # every entry of a
+    assert not acm.get_entry("a", "b") and not acm.get_entry("a", "c")
+    acm.set_default_entry("d", True)
+    assert acm.get_entry("d", "anything") and acm.get_default_entry("d")
+    acm.set_entry("d", "e", False)
+    assert not acm.get_entry("d", "e")
+    acm.set_default_entry("d", False)
+    assert not acm.get_entry("d", "anything")
+    with pytest.raises(TypeError, match="allowed"):
+        acm.set_entry("a", "b", "yes")
+    with pytest.raises(TypeError, match="allowed"):
+        acm.set_default_entry("a", 1)
+
+
+# ---------------------------------------------------------------------------- diff()
+def _populate(scene):
+    held_scene(scene)
+    scene.apply_collision_object(box("far", (1.0, 0.0, 0.0)))
+    scene.attach_object("obj", "panda_hand", touch_links=FINGERS)
+    scene.allowed_collision_matrix.set_entry("x", "y", True)
+    scene.is_state_colliding()  # build the shared collision set-up before diffing
+    return scene
+
+
+def _edit(scene):
+    scene.apply_collision_object(box("new", (0.307, 0.0, 0.56), (0.05, 0.05, 0.05)))
+    scene.apply_collision_object(
+        CollisionObject(id="far", header=msgs.Header(frame_id="world"), pose=pose((2.0, 0.0, 0.0)), operation=CollisionObject.MOVE)
+    )
+    scene.detach_object("obj")
+    scene.attach_object("far", "panda_link8")
+    scene.allowed_collision_matrix.set_entry("x", "y", False)
+    scene.allowed_collision_matrix.set_default_entry("new", True)
+    scene.current_state.joint_positions = {"panda_joint1": 0.7}
+
+
+def test_diff_starts_equal_and_knows_its_parent(scene):
+    """A diff has the parent's world, attached objects, ACM and state, and parent points back."""
+    _populate(scene)
+    child = scene.diff()
+    assert child.parent is scene
+    assert snapshot(child) == snapshot(scene)
+    assert child.current_state is not scene.current_state
+    assert scene.copy().parent is None
+
+
+def test_child_changes_never_reach_the_parent(scene):
+    """World, attached objects, ACM and robot state edits of a diff leave the parent as it was."""
+    _populate(scene)
+    before = snapshot(scene)
+    colliding = scene.is_state_colliding()
+    child = scene.diff()
+    _edit(child)
+    assert snapshot(child) != before
+    assert snapshot(scene) == before
+    assert scene.is_state_colliding() == colliding
+    assert "new" in child.world_object_names and not scene.has_object("new")
+    assert not scene.allowed_collision_matrix.get_entry("new", "panda_hand")
+
+
+def test_parent_changes_after_diff_never_reach_the_child(scene):
+    """Edits of the parent after diff() leave the child as it was."""
+    _populate(scene)
+    child = scene.diff()
+    before = snapshot(child)
+    colliding = child.is_state_colliding()
+    _edit(scene)
+    assert snapshot(scene) != before
+    assert snapshot(child) == before
+    assert child.is_state_colliding() == colliding
+    assert child.allowed_collision_matrix.get_entry("x", "y")
+
+
+def test_siblings_are_independent(scene):
+    """Two diffs of one scene do not see each other's changes; a diff of a diff neither."""
+    _populate(scene)
+    a, b = scene.diff(), scene.diff()
+    before = snapshot(b)
+    _edit(a)
+    assert snapshot(b) == before
+    grandchild = b.diff()
+    _edit(grandchild)
+    assert snapshot(b) == before and grandchild.parent is b
+
+
+def test_acm_held_across_diff_does_not_leak(scene):
+    """An ACM reference taken before diff() edits only its own scene, not the child."""
+    acm = scene.allowed_collision_matrix
+    child = scene.diff()
+    acm.set_entry("x", "y", True)
+    assert scene.allowed_collision_matrix.get_entry("x", "y")
+    assert not child.allowed_collision_matrix.get_entry("x", "y")
+
+
+# ---------------------------------------------------------------------------- bad input
+def _attached(scene):
+    held_scene(scene)
+    scene.apply_collision_object(box("far", (1.0, 0.0, 0.0)))
+    scene.attach_object("obj", "panda_hand")
+    return scene
+
+
+BAD_INPUT = {
+    "remove-unknown": (
+        lambda s: s.apply_collision_object(CollisionObject(id="ghost", operation=CollisionObject.REMOVE)),
+        KeyError, ["'ghost'", "far"],
+    ),
+    "move-unknown": (
+        lambda s: s.apply_collision_object(CollisionObject(id="ghost", operation=CollisionObject.MOVE)),
+        KeyError, ["'ghost'", "far"],
+    ),
+    "unknown-header-frame": (lambda s: s.apply_collision_object(box("b", (0, 0, 0), frame="tool0")), KeyError, ["'b'", "'tool0'", "panda_hand", "far"]),
+    "box-two-dims": (lambda s: s.apply_collision_object(obj("b", SolidPrimitive.BOX, [0.1, 0.1])), ValueError, ["'b'", "box", "3", "[0.1, 0.1]"]),
+    "sphere-negative": (lambda s: s.apply_collision_object(obj("b", SolidPrimitive.SPHERE, [-0.1])), ValueError, ["'b'", "sphere", "[radius]", "-0.1"]),
+    "cylinder-one-dim": (lambda s: s.apply_collision_object(obj("b", SolidPrimitive.CYLINDER, [0.1])), ValueError, ["'b'", "cylinder", "[height, radius]"]),
+    "cone-zero": (lambda s: s.apply_collision_object(obj("b", SolidPrimitive.CONE, [0.1, 0.0])), ValueError, ["'b'", "cone", "positive"]),
+    "box-nan": (lambda s: s.apply_collision_object(obj("b", SolidPrimitive.BOX, [0.1, float("nan"), 0.1])), ValueError, ["'b'", "box"]),
+    "unknown-primitive": (lambda s: s.apply_collision_object(obj("b", 7, [0.1])), ValueError, ["'b'", "7", "BOX"]),
+    "no-shapes": (lambda s: s.apply_collision_object(CollisionObject(id="b")), ValueError, ["'b'", "primitive or mesh"]),
+    "pose-count": (
+        lambda s: s.apply_collision_object(CollisionObject(id="b", primitives=[SolidPrimitive(type=1, dimensions=[1, 1, 1])])),
+        ValueError, ["'b'", "1 primitives but 0 primitive_poses"],
+    ),
+    "mesh-bad-index": (
+        lambda s: s.apply_collision_object(
+            CollisionObject(id="b", meshes=[msgs.Mesh(vertices=[msgs.Point()] * 3, triangles=[msgs.MeshTriangle(vertex_indices=[0, 1, 5])])], mesh_poses=[pose()])
+        ),
+        ValueError, ["'b'", "[0, 2]"],
+    ),
+    "empty-id": (lambda s: s.apply_collision_object(box("", (0, 0, 0))), ValueError, ["non-empty"]),
+    "unknown-operation": (lambda s: s.apply_collision_object(CollisionObject(id="far", operation=9)), ValueError, ["'far'", "9", "ADD"]),
+    "add-attached-id": (lambda s: s.apply_collision_object(box("obj", (0, 0, 0))), ValueError, ["'obj'", "attached", "detach"]),
+    "append-bad-shape": (
+        lambda s: s.apply_collision_object(obj("far", SolidPrimitive.SPHERE, [0.0], op=CollisionObject.APPEND)),
+        ValueError, ["'far'", "sphere"],
+    ),
+    "attach-unknown-object": (lambda s: s.attach_object("ghost", "panda_hand"), KeyError, ["'ghost'", "far"]),
+    "attach-unknown-link": (lambda s: s.attach_object("far", "panda_palm"), KeyError, ["'panda_palm'", "panda_hand"]),
+    "attach-unknown-touch-link": (lambda s: s.attach_object("far", "panda_hand", ["panda_palm"]), KeyError, ["'panda_palm'", "panda_hand"]),
+    "detach-not-attached": (lambda s: s.detach_object("far"), KeyError, ["'far'", "not attached", "obj"]),
+    "attach-msg-unknown-link": (
+        lambda s: s.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_palm", object=box("new", (0, 0, 0)))),
+        KeyError, ["'panda_palm'", "panda_hand"],
+    ),
+    "attach-msg-again": (
+        lambda s: s.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=box("obj", (0, 0, 0)))),
+        ValueError, ["'obj'", "already attached"],
+    ),
+    "detach-msg-unknown": (
+        lambda s: s.apply_attached_collision_object(msgs.AttachedCollisionObject(object=CollisionObject(id="ghost", operation=CollisionObject.REMOVE))),
+        KeyError, ["'ghost'", "obj"],
+    ),
+    "get-unknown-world-object": (lambda s: s.get_world_object("ghost"), KeyError, ["'ghost'", "far"]),
+    "get-unknown-attached": (lambda s: s.get_attached_object("ghost"), KeyError, ["'ghost'", "obj"]),
+    "unknown-frame": (lambda s: s.get_frame_transform("far/ghost"), KeyError, ["'far/ghost'"]),
+    "not-a-message": (lambda s: s.apply_collision_object({"id": "b"}), TypeError, ["CollisionObject"]),
+    "planes": (
+        lambda s: s.apply_collision_object(CollisionObject(id="b", planes=[msgs.Plane()], plane_poses=[pose()])),
+        ValueError, ["'b'", "planes"],
+    ),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD_INPUT))
+def test_bad_input_names_the_item_and_leaves_the_scene_as_it_was(scene, case):
+    """Each bad edit raises an error naming the bad item (and what exists) and changes nothing."""
+    call, error, words = BAD_INPUT[case]
+    _attached(scene)
+    before = snapshot(scene)
+    colliding = scene.get_collisions()
+    with pytest.raises(error) as e:
+        call(scene)
+    message = str(e.value)
+    for word in words:
+        assert word in message, (word, message)
+    assert snapshot(scene) == before
+    assert scene.get_collisions() == colliding
