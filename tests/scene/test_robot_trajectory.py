@@ -1,0 +1,209 @@
+"""Tests of mtc.scene.robot_trajectory: waypoints with times, as moveit_py's RobotTrajectory."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from mtc import msgs
+from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+ARM_JOINTS = [f"panda_joint{i}" for i in range(1, 8)]
+
+
+@pytest.fixture
+def start(panda):
+    s = RobotState(panda)
+    s.set_to_default_values("panda_arm", "ready")
+    s.set_to_default_values("hand", "open")
+    return s
+
+
+def sweep(panda, start, n=4, dt=0.5, group="panda_arm"):
+    """n waypoints turning joint 1 by 0.1 rad each, dt apart (the first at t=0)."""
+    traj = RobotTrajectory(panda, group)
+    for i in range(n):
+        s = start.copy()
+        s.joint_positions = {"panda_joint1": 0.1 * i}
+        traj.add_suffix_waypoint(s, 0.0 if i == 0 else dt)
+    return traj
+
+
+def test_empty_trajectory(panda):
+    """An empty trajectory: no waypoints, (0, k) positions, no times, zero duration."""
+    traj = RobotTrajectory(panda, "panda_arm")
+    assert len(traj) == 0
+    assert traj.positions.shape == (0, 7)
+    assert traj.times.shape == (0,)
+    assert traj.duration == 0.0
+    assert traj.joint_model_group_name == "panda_arm"
+    assert traj.joint_names == ARM_JOINTS
+    assert traj.robot_model is panda
+    assert traj.velocities is None and traj.accelerations is None
+
+
+def test_constructor_errors(panda):
+    """A model is required; an unknown group names the groups."""
+    with pytest.raises(TypeError, match="RobotModel"):
+        RobotTrajectory("panda", "panda_arm")
+    with pytest.raises(KeyError, match=r"'arm'.*panda_arm"):
+        RobotTrajectory(panda, "arm")
+
+
+def test_waypoints_positions_times(panda, start):
+    """Indexing gives RobotStates; positions are N x k of the group's variables; times accumulate dt."""
+    traj = sweep(panda, start)
+    assert len(traj) == 4
+    assert isinstance(traj[2], RobotState)
+    assert traj[2].positions[0] == pytest.approx(0.2)
+    assert [s.positions[0] for s in traj] == pytest.approx([0.0, 0.1, 0.2, 0.3])
+    assert traj.first_waypoint is traj[0] and traj.last_waypoint is traj[-1]
+    assert traj.positions.shape == (4, 7)
+    np.testing.assert_allclose(traj.positions[:, 0], [0.0, 0.1, 0.2, 0.3])
+    np.testing.assert_allclose(traj.positions[:, 1:], np.tile(start.positions[1:7], (4, 1)))
+    np.testing.assert_allclose(traj.times, [0.0, 0.5, 1.0, 1.5])
+    assert traj.duration == pytest.approx(1.5)
+    assert traj.get_waypoint_durations() == [0.0, 0.5, 0.5, 0.5]
+
+
+def test_waypoints_are_copies(panda, start):
+    """Adding a state copies it: changing the original later does not change the trajectory."""
+    traj = RobotTrajectory(panda, "panda_arm")
+    traj.append(start, 0.0)
+    start.joint_positions = {"panda_joint1": 1.0}
+    assert traj[0].positions[0] == 0.0
+    with pytest.raises(TypeError, match="RobotState"):
+        traj.add_suffix_waypoint(start.positions, 0.1)
+
+
+def test_group_hand_and_all(panda, start):
+    """The hand's trajectory has one column (the mimic finger is not a column); "" has every active variable."""
+    hand = RobotTrajectory(panda, "hand")
+    hand.append(start, 0.0)
+    assert hand.joint_names == ["panda_finger_joint1"]
+    assert hand.positions.tolist() == [[0.035]]
+    full = RobotTrajectory(panda, "")
+    full.append(start, 0.0)
+    assert full.joint_names == [*ARM_JOINTS, "panda_finger_joint1"]
+    assert full.positions.shape == (1, 8)
+
+
+def test_reverse(panda, start):
+    """reverse(): waypoints backwards, the same gaps, velocities negated, accelerations reordered."""
+    traj = RobotTrajectory(panda, "panda_arm")
+    for i, dt in enumerate([0.0, 0.2, 0.3, 0.5]):
+        s = start.copy()
+        s.joint_positions = {"panda_joint1": 0.1 * i}
+        traj.append(s, dt)
+    traj.velocities = np.arange(28, dtype=float).reshape(4, 7)
+    traj.accelerations = np.arange(28, dtype=float).reshape(4, 7) * 2
+    assert traj.reverse() is traj
+    np.testing.assert_allclose(traj.positions[:, 0], [0.3, 0.2, 0.1, 0.0])
+    np.testing.assert_allclose(traj.times, [0.0, 0.5, 0.8, 1.0])
+    np.testing.assert_array_equal(traj.velocities, -np.arange(28, dtype=float).reshape(4, 7)[::-1])
+    np.testing.assert_array_equal(traj.accelerations, (np.arange(28, dtype=float).reshape(4, 7) * 2)[::-1])
+
+
+def test_reverse_keeps_duration_and_start_offset(panda, start):
+    """reverse() keeps a non-zero first duration, as MoveIt's RobotTrajectory::reverse (duration unchanged)."""
+    traj = RobotTrajectory(panda, "panda_arm")
+    for i, dt in enumerate([0.5, 1.0, 2.0]):
+        s = start.copy()
+        s.joint_positions = {"panda_joint1": 0.1 * i}
+        traj.append(s, dt)
+    assert traj.duration == pytest.approx(3.5)
+    traj.reverse()
+    # MoveIt: durations [a, b, c] -> [a, c, b]
+    assert traj.get_waypoint_durations() == pytest.approx([0.5, 2.0, 1.0])
+    assert traj.duration == pytest.approx(3.5)
+
+
+def test_append_trajectory(panda, start):
+    """append(other, dt) adds other's waypoints, the first dt after this one's end, the rest at other's gaps."""
+    a = sweep(panda, start, n=3, dt=0.5)
+    b = sweep(panda, start, n=3, dt=0.25)
+    a.velocities = np.zeros((3, 7))
+    assert a.append(b, 1.0) is a
+    assert len(a) == 6
+    np.testing.assert_allclose(a.times, [0.0, 0.5, 1.0, 2.0, 2.25, 2.5])
+    assert a.velocities is None  # timing derivatives are stale after an edit
+    b[0].joint_positions = {"panda_joint2": 0.0}
+    assert a[3].positions[1] == pytest.approx(-0.785)  # copies
+    c = sweep(panda, start, n=3, dt=0.5)
+    c.append(b, 0.0, start_index=1)
+    assert len(c) == 5
+    np.testing.assert_allclose(c.positions[3:, 0], [0.1, 0.2])
+
+
+def test_append_keeps_the_appended_waypoints_own_gap(panda, start):
+    """As MoveIt's append(source, dt, start_index): the first appended duration is source's own plus dt."""
+    a = sweep(panda, start, n=2, dt=0.5)
+    b = sweep(panda, start, n=3, dt=0.25)
+    a.append(b, 0.1, start_index=1)
+    assert a.get_waypoint_durations() == pytest.approx([0.0, 0.5, 0.35, 0.25])
+
+
+def test_prefix_waypoint(panda, start):
+    """add_prefix_waypoint puts a state first; the old first follows dt later."""
+    traj = sweep(panda, start, n=2, dt=0.5)
+    s = start.copy()
+    s.joint_positions = {"panda_joint1": -0.1}
+    traj.add_prefix_waypoint(s, 0.25)
+    np.testing.assert_allclose(traj.positions[:, 0], [-0.1, 0.0, 0.1])
+    np.testing.assert_allclose(traj.times, [0.0, 0.25, 0.75])
+
+
+def test_times_setter(panda, start):
+    """times can be assigned (non-decreasing, one per waypoint)."""
+    traj = sweep(panda, start, n=3)
+    traj.times = [0.0, 0.1, 0.4]
+    np.testing.assert_allclose(traj.times, [0.0, 0.1, 0.4])
+    assert traj.duration == pytest.approx(0.4)
+    with pytest.raises(ValueError, match="3 values"):
+        traj.times = [0.0, 1.0]
+    with pytest.raises(ValueError, match="not decrease"):
+        traj.times = [0.0, 0.5, 0.2]
+    np.testing.assert_allclose(traj.times, [0.0, 0.1, 0.4])
+
+
+def test_from_positions(panda, start):
+    """from_positions sets the group's variables of a reference state row by row."""
+    rows = np.tile(start.positions[:7], (3, 1))
+    rows[:, 0] = [0.0, 0.2, 0.4]
+    traj = RobotTrajectory.from_positions(panda, "panda_arm", start, rows, times=[0.0, 1.0, 3.0])
+    np.testing.assert_allclose(traj.positions, rows)
+    np.testing.assert_allclose(traj.times, [0.0, 1.0, 3.0])
+    assert traj[1].positions[7] == pytest.approx(0.035)  # the hand from the reference
+
+
+def test_msg(panda, start):
+    """get_robot_trajectory_msg: the group's joints, positions, times, velocities when known."""
+    traj = sweep(panda, start, n=3)
+    msg = traj.get_robot_trajectory_msg()
+    assert isinstance(msg, msgs.RobotTrajectory)
+    jt = msg.joint_trajectory
+    assert jt.joint_names == ARM_JOINTS
+    assert jt.header.frame_id == "world"
+    assert [p.time_from_start for p in jt.points] == pytest.approx([0.0, 0.5, 1.0])
+    assert jt.points[1].positions == pytest.approx(traj.positions[1].tolist())
+    assert jt.points[0].velocities == []
+    traj.velocities = np.ones((3, 7))
+    traj.accelerations = np.full((3, 7), 2.0)
+    jt = traj.get_robot_trajectory_msg(joint_filter=["panda_joint2", "panda_joint1"]).joint_trajectory
+    assert jt.joint_names == ["panda_joint1", "panda_joint2"]
+    assert jt.points[2].positions == pytest.approx([0.2, -0.785])
+    assert jt.points[2].velocities == [1.0, 1.0] and jt.points[2].accelerations == [2.0, 2.0]
+
+
+def test_copy_and_clear(panda, start):
+    """copy() is independent; clear() empties."""
+    traj = sweep(panda, start, n=3)
+    traj.velocities = np.zeros((3, 7))
+    other = traj.copy()
+    other[0].joint_positions = {"panda_joint1": 2.0}
+    other.velocities[0, 0] = 5.0
+    other.append(start, 1.0)
+    assert traj[0].positions[0] == 0.0 and traj.velocities[0, 0] == 0.0 and len(traj) == 3
+    traj.clear()
+    assert len(traj) == 0 and traj.duration == 0.0 and len(other) == 4
