@@ -1,0 +1,19 @@
+"""Fixtures of the engine tests: the mockups of ``tests/mockups.py`` on the toy robot."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+
+# tests/mockups.py is shared by the test folders
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import mockups  # noqa: E402
+
+
+@pytest.fixture
+def t():
+    """A task on the toy robot without introspection, mockup ids reset (MTC's TaskTestBase)."""
+    return mockups.make_task()
