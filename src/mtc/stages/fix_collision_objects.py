@@ -81,7 +81,13 @@ class FixCollisionObjects(PropagatingEitherWay):
                         f"'{name}' by ({v[0]:.4g}, {v[1]:.4g}, {v[2]:.4g})" for name, v in moved.items()
                     )
                 return result
+            moved_now = set()
             for body_a, body_b, points in contacts:
+                name = body_a if body_a in world else body_b
+                if name in moved_now:
+                    # its other contacts are stale after the move: check again next round
+                    # (MTC moves once per colliding pair, which may push an object twice)
+                    continue
                 correction = _correction(body_a in world, points)
                 depth = float(np.linalg.norm(correction))
                 if depth > max_penetration:
@@ -92,7 +98,7 @@ class FixCollisionObjects(PropagatingEitherWay):
                     return result
                 if direction is not None:  # an explicit direction replaces the contact normals
                     correction = np.array([direction.x, direction.y, direction.z], dtype=float)
-                name = body_a if body_a in world else body_b
+                moved_now.add(name)
                 pose = scene.get_world_object(name).pose.copy()
                 pose[:3, 3] += correction
                 scene.apply_collision_object(
