@@ -17,15 +17,17 @@ __all__ = ["AllowedCollisionMatrix"]
 class AllowedCollisionMatrix:
     """Allowed collisions between named bodies.
 
-    Every change bumps ``version``, so cached collision set-ups can tell they are stale.
+    Every change renews ``token`` (and bumps ``version``); copies carry the token over, so two
+    matrices with the same token have the same content and can share a collision set-up.
     """
 
-    __slots__ = ("_entries", "_defaults", "version")
+    __slots__ = ("_entries", "_defaults", "version", "token")
 
     def __init__(self, allowed_pairs: Iterable[tuple[str, str]] = ()):
         self._entries: dict[frozenset, bool] = {}
         self._defaults: dict[str, bool] = {}
         self.version = 0
+        self.token = object()
         for a, b in allowed_pairs:
             if b == "*":
                 self._defaults[a] = True
@@ -37,7 +39,12 @@ class AllowedCollisionMatrix:
         other._entries = dict(self._entries)
         other._defaults = dict(self._defaults)
         other.version = self.version
+        other.token = self.token
         return other
+
+    def _changed(self) -> None:
+        self.version += 1
+        self.token = object()
 
     @staticmethod
     def _names(value, what: str) -> list[str]:
@@ -68,7 +75,7 @@ class AllowedCollisionMatrix:
             for a in firsts:
                 for b in self._names(second, "second"):
                     self._entries[frozenset((a, b))] = allowed
-        self.version += 1
+        self._changed()
 
     def remove_entry(self, first: str, second: str | None = None) -> None:
         """Drop the explicit entry of a pair, or every entry of ``first``."""
@@ -78,7 +85,7 @@ class AllowedCollisionMatrix:
             self._defaults.pop(first, None)
         else:
             self._entries.pop(frozenset((first, second)), None)
-        self.version += 1
+        self._changed()
 
     def get_entry(self, first: str, second: str) -> bool:
         """Whether ``first`` and ``second`` may collide (explicit entry, else defaults)."""
@@ -96,7 +103,7 @@ class AllowedCollisionMatrix:
         if not isinstance(allowed, bool):
             raise TypeError(f"allowed must be True or False, not {allowed!r}")
         self._defaults[name] = allowed
-        self.version += 1
+        self._changed()
 
     def get_default_entry(self, name: str) -> bool:
         return self._defaults.get(name, False)

@@ -282,7 +282,7 @@ class PlanningScene:
         self._world: dict[str, WorldObject] = {}
         self._attached: dict[str, AttachedObject] = {}
         self._acm = AllowedCollisionMatrix(robot_model.disabled_collision_pairs)
-        self._shared = 0  # bit 1: world, 2: attached, 4: acm shared with another scene
+        self._shared = 0  # bit 1: world, 2: attached objects shared with another scene
         # tokens replaced on every change of the world / attached objects: the collision set-up
         # cached under them stays valid exactly as long as they do
         self._world_token = object()
@@ -326,10 +326,11 @@ class PlanningScene:
         child._state = self._state.copy()
         child._world = self._world
         child._attached = self._attached
-        child._acm = self._acm
+        # the ACM is copied, not shared: callers may hold the parent's ACM and edit it later
+        child._acm = self._acm.copy()
         child._world_token = self._world_token
         child._attached_token = self._attached_token
-        self._shared = child._shared = 7
+        self._shared = child._shared = 3
         child._env = self._env
         child._env_key = self._env_key
         return child
@@ -358,10 +359,7 @@ class PlanningScene:
 
     @property
     def allowed_collision_matrix(self) -> AllowedCollisionMatrix:
-        """The scene's ACM (its own copy: edit it in place)."""
-        if self._shared & 4:
-            self._acm = self._acm.copy()
-            self._shared &= ~4
+        """The scene's own ACM: edit it in place."""
         return self._acm
 
     def get_allowed_collision_matrix(self) -> AllowedCollisionMatrix:
@@ -619,9 +617,8 @@ class PlanningScene:
 
     # ------------------------------------------------------------------ collision checking
     def _collision_env(self) -> _CollisionEnv:
-        key = (self._world_token, self._attached_token, self._acm, self._acm.version)
-        cached = self._env_key
-        if self._env is None or cached is None or not all(a is b for a, b in zip(key[:3], cached[:3])) or key[3] != cached[3]:
+        key = (self._world_token, self._attached_token, self._acm.token)
+        if self._env is None or self._env_key is None or any(a is not b for a, b in zip(key, self._env_key)):
             self._env = _CollisionEnv(self._model, self._world, self._attached, self._acm)
             self._env_key = key
         return self._env

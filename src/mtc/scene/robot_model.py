@@ -462,10 +462,10 @@ class RobotModel:
         links = sorted(dict.fromkeys(links), key=lambda n: self._links.index(n))
         active = [n for n in joints if n in self._active_names]
         indices = np.array([self._var_index[n] for n in active], dtype=int)
+        # as MoveIt's updated links: everything below the group's joints, fixed ones included
         updated = []
         for name in joints:
-            if name in self._var_index:
-                updated.extend(self._subtree_links(self._joints[name].child))
+            updated.extend(self._subtree_links(self._joints[name].child))
         updated = sorted(dict.fromkeys(updated), key=lambda n: self._links.index(n))
         return JointModelGroup(
             name=spec.name,

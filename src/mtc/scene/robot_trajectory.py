@@ -139,25 +139,27 @@ class RobotTrajectory:
         self.velocities = self.accelerations = None
 
     def append(self, other: RobotTrajectory | RobotState, dt: float = 0.0, start_index: int = 0) -> RobotTrajectory:
-        """Append another trajectory's waypoints (from ``start_index``), the first ``dt``
-        seconds after this one's end, or a single state."""
+        """Append another trajectory's waypoints (from ``start_index``; the first one's gap grows
+        by ``dt``), or a single state ``dt`` after this one's end."""
         if isinstance(other, RobotState):
             self.add_suffix_waypoint(other, dt)
             return self
         if not isinstance(other, RobotTrajectory):
             raise TypeError(f"append takes a RobotTrajectory or RobotState, not {type(other).__name__}")
+        # as MoveIt's append(): the first appended waypoint keeps its own gap, plus dt
         durations = other._durations[start_index:]
         for k, state in enumerate(other.waypoints[start_index:]):
             self.waypoints.append(state.copy())
-            self._durations.append(float(dt) if k == 0 else durations[k])
+            self._durations.append(durations[k] + float(dt) if k == 0 else durations[k])
         self.velocities = self.accelerations = None
         return self
 
     def reverse(self) -> RobotTrajectory:
-        """Reverse in place: waypoints backwards, the same gaps between them; velocities negate."""
+        """Reverse in place: waypoints backwards, the same gaps between them (the first gap
+        stays first, as MoveIt's reverse()); velocities negate."""
         self.waypoints.reverse()
         if self._durations:
-            self._durations = [0.0, *reversed(self._durations[1:])]
+            self._durations = [self._durations[0], *reversed(self._durations[1:])]
         if self.velocities is not None:
             self.velocities = -self.velocities[::-1]
         if self.accelerations is not None:
