@@ -33,6 +33,7 @@ import subprocess
 import sys
 import time
 import uuid
+import warnings
 import webbrowser
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
@@ -84,6 +85,15 @@ _DEFAULT_LINK_COLOR = (0.9, 0.9, 0.9, 1.0)
 _Y_TO_Z = np.array([[1.0, 0, 0, 0], [0, 0, -1.0, 0], [0, 1.0, 0, 0], [0, 0, 0, 1.0]])
 
 _MESH_FORMATS = {".dae": "dae", ".stl": "stl", ".obj": "obj"}  # what meshcat's page can parse
+
+
+def _import_meshcat():
+    """Import meshcat (about a second: it pulls in IPython), once, quietly: its server module
+    uses a pyzmq API that warns on import."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        import meshcat
+    return meshcat
 
 
 def viewer_disabled() -> bool:
@@ -863,6 +873,7 @@ class Viewer:
             raise ValueError(f"fps must be a positive number of frames per second, got {fps!r}")
         if zmq_url is not None:
             _check_local_url(zmq_url)
+        _import_meshcat()
         self._model = robot_model
         self.fps = float(fps)
         self._proc: subprocess.Popen | None = None
@@ -901,13 +912,13 @@ class Viewer:
 
     @property
     def url(self) -> str | None:
-        """Address of the viewer page (on 127.0.0.1)."""
-        return self._conn.web_url if self._conn is not None else None
+        """Address of the viewer page (on 127.0.0.1); None once closed."""
+        return self._conn.web_url if self.is_open else None
 
     @property
     def zmq_url(self) -> str | None:
         """Address of the server's command socket; pass it to another ``Viewer`` to share the page."""
-        return self._conn.zmq_url if self._conn is not None else None
+        return self._conn.zmq_url if self.is_open else None
 
     @property
     def is_open(self) -> bool:
@@ -919,8 +930,7 @@ class Viewer:
         under ``/meshcat/mtc`` belongs to the viewer)."""
         self._require_open()
         if self._visualizer is None:
-            import meshcat
-
+            meshcat = _import_meshcat()
             self._visualizer = meshcat.Visualizer(window=self._conn)
         return self._visualizer
 
@@ -1216,6 +1226,8 @@ def _serve(argv: list[str] | None = None) -> None:
 
     import tornado.ioloop
     import tornado.web
+
+    _import_meshcat()
     from meshcat.servers import zmqserver
 
     listen = tornado.web.Application.listen
@@ -1238,7 +1250,10 @@ def _serve(argv: list[str] | None = None) -> None:
                 bridge.ioloop.stop()
 
         tornado.ioloop.PeriodicCallback(stop_when_orphaned, 500).start()
-    bridge.run()
+    try:
+        bridge.run()
+    except KeyboardInterrupt:  # a standalone server (python -m mtc.viewer) ends with Ctrl-C
+        pass
 
 
 if __name__ == "__main__":
