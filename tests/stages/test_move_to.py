@@ -1,0 +1,416 @@
+"""Tests of stages.MoveTo: goal kinds, IK frames, both directions, failures and their comments."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from mtc import core, msgs, stages
+from mtc.planners.joint_interpolation import JointInterpolationPlanner
+from mtc.planners.planner_interface import PlannerInterface, PlannerResult
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+TAU = 2 * math.pi
+
+
+class RecordingPlanner(PlannerInterface):
+    """A test double: records its calls and answers with a fixed result and no trajectory."""
+
+    def __init__(self, result=PlannerResult(False, "no way")):
+        super().__init__()
+        self.result = result
+        self.calls = []
+
+    def plan(self, from_scene, to_scene, group, timeout, path_constraints=None):
+        self.calls.append(("plan", group, timeout, path_constraints, to_scene.current_state.copy()))
+        return self.result, None
+
+    def plan_to_pose(self, from_scene, link, offset, target, group, timeout, path_constraints=None):
+        self.calls.append(("plan_to_pose", link, offset, target, group, timeout, path_constraints))
+        return self.result, None
+
+
+@pytest.fixture
+def start_scene(ready_scene):
+    """The arm at 'extended' (MTC's test_move_to fixture)."""
+    ready_scene.current_state.set_to_default_values("panda_arm", "extended")
+    return ready_scene
+
+
+@pytest.fixture
+def move():
+    m = stages.MoveTo("move", JointInterpolationPlanner())
+    m.group = "panda_arm"
+    return m
+
+
+def frame_pose_of_named_state(scene, name: str, frame: str) -> msgs.PoseStamped:
+    """Pose of ``frame`` with the arm at the named state (MTC's getFramePoseOfNamedState)."""
+    probe = scene.diff()
+    probe.current_state.set_to_default_values("panda_arm", name)
+    return msgs.PoseStamped(header=msgs.Header(frame_id="world"), pose=msgs.matrix_to_pose(probe.get_frame_transform(frame)))
+
+
+def attach_object(scene, name="attached_object"):
+    """A small sphere attached to panda_hand, 0.2 m along z, with a subframe (MTC's test object)."""
+    scene.apply_attached_collision_object(
+        msgs.AttachedCollisionObject(
+            link_name="panda_hand",
+            object=msgs.CollisionObject(
+                id=name,
+                header=msgs.Header(frame_id="panda_hand"),
+                primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.SPHERE, dimensions=[0.01])],
+                primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+                pose=msgs.Pose(position=msgs.Point(z=0.2), orientation=msgs.Quaternion(w=1.0)),
+                subframe_names=["subframe"],
+                subframe_poses=[msgs.Pose(position=msgs.Point(x=0.01), orientation=msgs.Quaternion(w=1.0))],
+                operation=msgs.CollisionObject.ADD,
+            ),
+        )
+    )
+
+
+def one_solution(task):
+    assert task.plan()
+    assert len(task.solutions) == 1
+
+
+# ------------------------------------------------------------------------------ properties
+def test_defaults():
+    """Name, timeout default 1.0, undefined group/goal/ik_frame, empty constraints, PathLength."""
+    m = stages.MoveTo()
+    assert m.name == "move to"
+    assert m.properties.get("timeout") == 1.0
+    assert not m.properties.property("timeout").defined()
+    for name in ("group", "goal", "ik_frame"):
+        assert m.properties.get(name, None) is None
+    assert m.path_constraints == msgs.Constraints()
+    assert isinstance(m.costTerm(), core.PathLength)
+
+
+def test_set_goal_forms():
+    """A dict is stored as a diff RobotState (as MTC); other types raise TypeError."""
+    m = stages.MoveTo("m", JointInterpolationPlanner())
+    m.setGoal({"panda_joint1": 1})
+    goal = m.properties.get("goal")
+    assert isinstance(goal, msgs.RobotState) and goal.is_diff
+    assert goal.joint_state.name == ["panda_joint1"] and goal.joint_state.position == [1.0]
+    m.setGoal("ready")
+    assert m.properties.get("goal") == "ready"
+    with pytest.raises(TypeError, match="setGoal"):
+        m.setGoal(42)
+    with pytest.raises(TypeError, match="panda_joint1"):
+        m.setGoal({"panda_joint1": "up"})
+
+
+def test_set_ik_frame_forms():
+    """setIKFrame takes a PoseStamped, (pose, link) or a link name; ik_frame is a PoseStamped."""
+    m = stages.MoveTo("m", JointInterpolationPlanner())
+    m.setIKFrame("panda_hand")
+    assert m.ik_frame.header.frame_id == "panda_hand" and m.ik_frame.pose.orientation.w == 1.0
+    T = np.eye(4)
+    T[2, 3] = 0.1
+    m.setIKFrame(T, "panda_link8")
+    assert m.ik_frame.header.frame_id == "panda_link8" and m.ik_frame.pose.position.z == pytest.approx(0.1)
+    m.setIKFrame(msgs.Pose(position=msgs.Point(x=0.2)), "panda_hand")
+    assert m.ik_frame.pose.position.x == 0.2
+    ps = msgs.PoseStamped(header=msgs.Header(frame_id="panda_hand"))
+    m.setIKFrame(ps)
+    assert m.ik_frame == ps and m.ik_frame is not ps
+    with pytest.raises(TypeError, match="setIKFrame"):
+        m.setIKFrame(3)
+    with pytest.raises(TypeError):
+        m.ik_frame = "panda_hand"  # the attribute is typed
+
+
+def test_planner_type_is_checked():
+    """A planner must be a PlannerInterface; none is an init error."""
+    with pytest.raises(TypeError, match="PlannerInterface"):
+        stages.MoveTo("m", "ompl")
+
+
+def test_missing_planner_is_an_init_error(make_task):
+    """MoveTo without a planner fails at init, saying how to fix it."""
+    m = stages.MoveTo()
+    m.group = "panda_arm"
+    m.setGoal("ready")
+    with pytest.raises(core.InitStageError, match="no planner"):
+        make_task(stages.CurrentState(), m).plan()
+
+
+# ------------------------------------------------------------------------------ joint goals
+def test_named_target(make_task, start_scene, move):
+    """Goal 'ready': one solution ending at the named state, cost = joint path length."""
+    move.setGoal("ready")
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+    sol = move.solutions[0]
+    end = sol.end.scene.current_state
+    assert end.get_joint_group_positions("panda_arm") == pytest.approx([0, -0.785, 0, -2.356, 0, 1.571, 0.785])
+    assert sol.cost == pytest.approx(start_scene.current_state.distance(end))
+    assert sol.trajectory.joint_names[:7] == [f"panda_joint{i}" for i in range(1, 8)]
+    assert sol.trajectory.duration > 0
+
+
+def test_map_target(make_task, start_scene, move):
+    """A dict goal sets only the named joints."""
+    move.setGoal({"panda_joint1": TAU / 8, "panda_joint2": TAU / 8})
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+    end = move.solutions[0].end.scene.current_state
+    assert end.joint_positions["panda_joint1"] == pytest.approx(TAU / 8)
+    assert end.joint_positions["panda_joint4"] == pytest.approx(start_scene.current_state.joint_positions["panda_joint4"])
+
+
+def test_state_target(make_task, start_scene, move):
+    """A diff RobotState message goal."""
+    move.setGoal(msgs.RobotState(
+        joint_state=msgs.JointState(name=["panda_joint1", "panda_joint2"], position=[TAU / 8, TAU / 8]), is_diff=True
+    ))
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+
+
+@pytest.mark.parametrize(
+    ("goal", "message"),
+    [
+        ("nope", "Unknown joint pose: nope"),
+        (msgs.RobotState(joint_state=msgs.JointState(name=["panda_joint1"], position=[0.0])), "Expecting a diff state"),
+        ({"panda_finger_joint1": 0.01}, "Joint 'panda_finger_joint1' is not part of group 'panda_arm'"),
+    ],
+)
+def test_bad_joint_goal_raises_out_of_plan(make_task, start_scene, move, goal, message):
+    """As MTC, a joint goal that cannot apply raises InitStageError out of plan()."""
+    move.setGoal(goal)
+    with pytest.raises(core.InitStageError, match=message):
+        make_task(stages.FixedState("start", start_scene), move).plan()
+
+
+def test_goal_out_of_bounds_is_a_failure(make_task, start_scene, move):
+    """The planner's reason becomes the failure comment (alternatives.py's goal 2)."""
+    move.setGoal({"panda_joint1": -3.0, "panda_joint2": -1.0, "panda_joint4": -2.0})
+    task = make_task(stages.FixedState("start", start_scene), move)
+    assert not task.plan()
+    assert move.failures[0].comment.endswith("is out of bounds!")
+    assert move.failures[0].trajectory is not None  # the partial path is kept for display
+
+
+# ------------------------------------------------------------------------------ pose goals
+def test_point_target(make_task, start_scene, move):
+    """A PointStamped moves the tip there, keeping its orientation."""
+    pose = frame_pose_of_named_state(start_scene, "ready", "panda_link8")
+    move.setGoal(msgs.PointStamped(header=pose.header, point=pose.pose.position))
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+    end = move.solutions[0].end.scene.current_state
+    reached = end.get_global_link_transform("panda_link8")
+    start = start_scene.current_state.get_global_link_transform("panda_link8")
+    p = pose.pose.position
+    assert reached[:3, 3] == pytest.approx([p.x, p.y, p.z], abs=1e-3)
+    assert reached[:3, :3] == pytest.approx(start[:3, :3], abs=1e-3)
+
+
+def test_pose_target(make_task, start_scene, move):
+    """A PoseStamped goal for the group's tip (panda_link8) without ik_frame."""
+    pose = frame_pose_of_named_state(start_scene, "ready", "panda_link8")
+    move.setGoal(pose)
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+    reached = move.solutions[0].end.scene.current_state.get_global_link_transform("panda_link8")
+    assert reached == pytest.approx(msgs.pose_to_matrix(pose.pose), abs=1e-3)
+
+
+def test_pose_ik_frame_link_target(make_task, start_scene, move):
+    """ik_frame panda_hand (a link fixed to panda_link8) reaches the goal pose."""
+    move.setIKFrame("panda_hand")
+    pose = frame_pose_of_named_state(start_scene, "ready", "panda_hand")
+    move.setGoal(pose)
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+    reached = move.solutions[0].end.scene.get_frame_transform("panda_hand")
+    assert reached == pytest.approx(msgs.pose_to_matrix(pose.pose), abs=1e-3)
+
+
+@pytest.mark.parametrize("frame", ["attached_object", "attached_object/subframe"])
+def test_pose_ik_frame_attached_target(make_task, start_scene, move, frame):
+    """An attached object, or its subframe, as ik_frame reaches the goal pose."""
+    attach_object(start_scene)
+    move.setIKFrame(frame)
+    pose = frame_pose_of_named_state(start_scene, "ready", frame)
+    move.setGoal(pose)
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+    reached = move.solutions[0].end.scene.get_frame_transform(frame)
+    assert reached == pytest.approx(msgs.pose_to_matrix(pose.pose), abs=1e-3)
+
+
+def test_pose_target_with_offset_ik_frame(make_task, start_scene, move):
+    """An ik_frame with an offset on its link: the offset frame reaches the goal."""
+    T = np.eye(4)
+    T[2, 3] = 0.1
+    move.setIKFrame(T, "panda_hand")
+    probe = start_scene.diff()
+    probe.current_state.set_to_default_values("panda_arm", "ready")
+    target = probe.get_frame_transform("panda_hand") @ T
+    move.setGoal(msgs.PoseStamped(header=msgs.Header(frame_id="world"), pose=msgs.matrix_to_pose(target)))
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+    reached = move.solutions[0].end.scene.get_frame_transform("panda_hand") @ T
+    assert reached == pytest.approx(target, abs=1e-3)
+
+
+def test_pose_goal_in_another_frame(make_task, start_scene, move):
+    """A goal pose stamped in a link frame is taken in that frame (here: 5 cm below link8)."""
+    goal = msgs.PoseStamped(header=msgs.Header(frame_id="panda_link8"),
+                            pose=msgs.Pose(position=msgs.Point(z=0.05), orientation=msgs.Quaternion(w=1.0)))
+    move.setGoal(goal)
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+    start = start_scene.current_state.get_global_link_transform("panda_link8")
+    reached = move.solutions[0].end.scene.current_state.get_global_link_transform("panda_link8")
+    assert reached[:3, 3] == pytest.approx(start[:3, 3] + start[:3, 2] * 0.05, abs=1e-3)
+
+
+@pytest.mark.parametrize(
+    ("configure", "message"),
+    [
+        (lambda m: m.setProperty("group", "panda_arn"), "invalid joint model group: panda_arn"),
+        (lambda m: m.properties.property("goal").setValue(None), "undefined goal"),
+        (lambda m: (m.setProperty("group", "hand"), m.setGoal(msgs.PoseStamped())), "missing ik_frame"),
+        (lambda m: (m.setIKFrame("nowhere"), m.setGoal(msgs.PoseStamped())),
+         "ik_frame specified in unknown frame 'nowhere'"),
+        (lambda m: (m.setIKFrame("world"), m.setGoal(msgs.PoseStamped())), "ik_frame doesn't specify a link frame"),
+        (lambda m: m.setProperty("goal", 42), "invalid goal type: int"),
+        (lambda m: m.setGoal(msgs.PoseStamped(header=msgs.Header(frame_id="mars"))), "unknown frame of goal pose: 'mars'"),
+    ],
+)
+def test_failure_comments(make_task, start_scene, move, configure, message):
+    """Configuration problems found while computing are failures with MTC's comments."""
+    configure(move)
+    task = make_task(stages.FixedState("start", start_scene), move)
+    assert not task.plan()
+    assert move.numFailures() == 1
+    assert move.failures[0].comment == message
+
+
+def test_world_object_is_not_an_ik_frame(make_task, start_scene, move, box):
+    """A world object cannot be the IK frame: it does not move with the robot."""
+    start_scene.apply_collision_object(box("crate", (0.6, 0.4, 0.8)))
+    move.setIKFrame("crate")
+    move.setGoal(msgs.PoseStamped())
+    assert not make_task(stages.FixedState("start", start_scene), move).plan()
+    assert move.failures[0].comment == "ik_frame doesn't specify a link frame"
+
+
+# ------------------------------------------------------------------------------ directions
+def test_backward_reverses_the_trajectory(make_task, start_scene, move):
+    """Backward, planning runs from the end state to the goal; the new start state is the goal
+    and the stored trajectory runs from it to the given end state."""
+    move.setGoal("ready")
+    task = make_task(move, stages.FixedState("end", start_scene))
+    one_solution(task)
+    sol = move.solutions[0]
+    start = sol.start.scene.current_state
+    assert start.get_joint_group_positions("panda_arm") == pytest.approx([0, -0.785, 0, -2.356, 0, 1.571, 0.785])
+    assert sol.trajectory[0] == start
+    assert sol.trajectory[len(sol.trajectory) - 1] == start_scene.current_state
+    assert sol.end.scene is start_scene
+
+
+def test_restrict_direction_mismatch_is_an_init_error(make_task, start_scene, move):
+    """A MoveTo restricted to FORWARD cannot run before a generator."""
+    move.setGoal("ready")
+    move.restrictDirection(stages.MoveTo.Direction.FORWARD)
+    with pytest.raises(core.InitStageError, match="does not match"):
+        make_task(move, stages.FixedState("end", start_scene)).plan()
+
+
+# ------------------------------------------------------------------------------ planner calls
+def test_planner_gets_timeout_group_and_constraints(make_task, start_scene):
+    """The stage passes its group, timeout and path constraints to the planner."""
+    planner = RecordingPlanner(PlannerResult(False, "no way"))
+    m = stages.MoveTo("m", planner)
+    m.group = "panda_arm"
+    m.timeout = 2.5
+    constraints = msgs.Constraints(name="upright")
+    m.path_constraints = constraints
+    m.setGoal("ready")
+    assert not make_task(stages.FixedState("start", start_scene), m).plan()
+    kind, group, timeout, path_constraints, goal_state = planner.calls[0]
+    assert (kind, group, timeout, path_constraints) == ("plan", "panda_arm", 2.5, constraints)
+    assert goal_state.get_joint_group_positions("panda_arm") == pytest.approx([0, -0.785, 0, -2.356, 0, 1.571, 0.785])
+
+
+def test_pose_goal_planner_call(make_task, start_scene):
+    """plan_to_pose gets the rigid parent link of the ik frame, the offset and the target."""
+    planner = RecordingPlanner()
+    m = stages.MoveTo("m", planner)
+    m.group = "panda_arm"
+    m.setIKFrame("panda_hand")
+    target = frame_pose_of_named_state(start_scene, "ready", "panda_hand")
+    m.setGoal(target)
+    assert not make_task(stages.FixedState("start", start_scene), m).plan()
+    kind, link, offset, T, group, timeout, _ = planner.calls[0]
+    assert kind == "plan_to_pose" and group == "panda_arm" and timeout == 1.0
+    state = start_scene.current_state
+    assert state.get_global_link_transform(link) @ offset == pytest.approx(state.get_global_link_transform("panda_hand"))
+    assert T == pytest.approx(msgs.pose_to_matrix(target.pose))
+
+
+def test_failure_without_trajectory_is_shown_as_straight_line(make_task, start_scene):
+    """With introspection, a failure without a planned path stores start -> goal for display."""
+    m = stages.MoveTo("m", RecordingPlanner(PlannerResult(False, "no way")))
+    m.group = "panda_arm"
+    m.setGoal("ready")
+    assert not make_task(stages.FixedState("start", start_scene), m).plan()
+    failure = m.failures[0]
+    assert failure.comment == "no way"
+    assert isinstance(failure.trajectory, RobotTrajectory) and len(failure.trajectory) == 2
+
+
+def test_failure_without_trajectory_and_introspection_is_counted(make_task, start_scene):
+    """Without introspection such a failure is only counted."""
+    m = stages.MoveTo("m", RecordingPlanner(PlannerResult(False, "no way")))
+    m.group = "panda_arm"
+    m.setGoal("ready")
+    assert not make_task(stages.FixedState("start", start_scene), m, introspection=False).plan()
+    assert m.numFailures() == 1 and m.failures == []
+
+
+# ------------------------------------------------------------------------------ use in tasks
+def test_python_subclass_calls_the_base(make_task, start_scene):
+    """A Python subclass overriding computeForward and calling the base still plans."""
+    calls = []
+
+    class MyMove(stages.MoveTo):
+        def computeForward(self, from_state):
+            calls.append(from_state)
+            return stages.MoveTo.computeForward(self, from_state)
+
+    m = MyMove("mine", JointInterpolationPlanner())
+    m.group = "panda_arm"
+    m.setGoal("ready")
+    one_solution(make_task(stages.FixedState("start", start_scene), m))
+    assert len(calls) == 1
+
+
+def test_group_inherited_from_parent(make_task):
+    """As the modular demo: the group comes from the container's property."""
+    container = core.SerialContainer("module")
+    container.setProperty("group", "panda_arm")
+    m = stages.MoveTo("to extended", JointInterpolationPlanner())
+    m.properties.configureInitFrom(core.Stage.PropertyInitializerSource.PARENT, ["group"])
+    m.setGoal("extended")
+    container.add(m)
+    task = make_task(stages.CurrentState(), container)
+    assert task.plan()
+    assert m.properties.get("group") == "panda_arm"
+
+
+def test_seed_current_state_to_ready_to_extended(make_task):
+    """CurrentState -> MoveTo 'extended' -> MoveTo 'ready' with JointInterpolationPlanner."""
+    planner = JointInterpolationPlanner()
+    a = stages.MoveTo("to extended", planner)
+    a.group = "panda_arm"
+    a.setGoal("extended")
+    b = stages.MoveTo("to ready", planner)
+    b.group = "panda_arm"
+    b.setGoal("ready")
+    task = make_task(stages.CurrentState("current"), a, b)
+    one_solution(task)
+    sol = task.solutions[0]
+    assert sol.cost == pytest.approx(a.solutions[0].cost + b.solutions[0].cost)
+    assert sol.cost == pytest.approx(2 * 3.0712, abs=1e-3)
