@@ -333,6 +333,41 @@ def test_inconsistent_urdf_names_file_and_item(tmp_path, body, words):
         assert word in msg
 
 
+@pytest.mark.parametrize(
+    "joint_body, words",
+    [
+        ('<limit lower="abc" upper="1" velocity="1" effort="1"/>', ["'j1'", "lower", "'abc'"]),
+        ('<limit lower="-1" upper="1" velocity="fast" effort="1"/>', ["'j1'", "velocity", "'fast'"]),
+        ('<limit lower="-1" upper="1" velocity="1" effort="1"/><mimic joint="j0" multiplier="x"/>', ["'j1'", "multiplier", "'x'"]),
+    ],
+    ids=["limit-lower", "limit-velocity", "mimic-multiplier"],
+)
+def test_non_numeric_joint_values_name_file_joint_and_value(tmp_path, joint_body, words):
+    """A non-numeric limit or mimic value raises DescriptionError naming the file, joint, attribute and value."""
+    body = (
+        LINK.format("a") + LINK.format("b") + LINK.format("c")
+        + '<joint name="j0" type="revolute"><parent link="a"/><child link="b"/>'
+        '<limit lower="-1" upper="1" velocity="1" effort="1"/></joint>'
+        + f'<joint name="j1" type="revolute"><parent link="b"/><child link="c"/>{joint_body}</joint>'
+    )  # fmt: skip
+    path = write(tmp_path, "numbers.urdf", urdf(body))
+    with pytest.raises(DescriptionError) as e:
+        RobotModel(path)
+    msg = str(e.value)
+    assert "numbers.urdf" in msg
+    for word in words:
+        assert word in msg, (word, msg)
+
+
+def test_malformed_origin_names_the_joint(tmp_path):
+    """A malformed origin is reported through Pinocchio's parser, naming the file and the joint."""
+    body = LINK.format("a") + LINK.format("b") + GOOD_JOINT.replace('<axis', '<origin xyz="0 zero 0"/><axis')
+    path = write(tmp_path, "origin.urdf", urdf(body))
+    with pytest.raises(DescriptionError) as e:
+        RobotModel(path)
+    assert "origin.urdf" in str(e.value) and "j1" in str(e.value)
+
+
 def test_missing_package_mesh(tmp_path):
     """A package:// mesh that no package folder holds names the mesh URI and the URDF file."""
     body = '<link name="a"><collision><geometry><mesh filename="package://nopkg/meshes/m.stl"/></geometry></collision></link>'
