@@ -570,7 +570,7 @@ def test_no_viewer_env_makes_everything_a_no_op(monkeypatch, shapes_model):
     v.close()
     with v:
         pass
-    assert time.monotonic() - start < 0.5
+    assert time.monotonic() - start < 2.0  # nothing waited (hold() would block for good)
     assert current_viewer() is before
     # zmq_url is not even checked: nothing is contacted
     assert Viewer(shapes_model, zmq_url="tcp://192.0.2.1:6000").url is None

@@ -1016,9 +1016,11 @@ class Viewer:
             self._send_transform(path, T)
             if path in object_paths:
                 self._send_visible(path, visible)
-        final_scene = next((s.end_scene or s.start_scene for s in reversed(segs) if (s.end_scene or s.start_scene)), None)
-        if final_scene is not None:
-            self._scene = final_scene.copy()
+        for seg in reversed(segs):  # the scene the animation ends in
+            final_scene = seg.end_scene if seg.end_scene is not None else seg.start_scene
+            if final_scene is not None:
+                self._scene = final_scene.copy()
+                break
         self._state = anim.final.state.copy()
         if anim.duration > 0:
             self._send_animation(anim, float(fps), repetitions)
