@@ -1,0 +1,264 @@
+"""Straight-line Cartesian motion of a frame (MTC's ``solvers/cartesian_path.h``).
+
+The frame moves on the straight line from its current pose to the target: positions are
+interpolated linearly and orientations by slerp, in steps of at most ``step_size``. Each step
+is solved by IK seeded with the previous waypoint. Between two waypoints the robot will move
+by joint interpolation, so that motion is checked against the line (MoveIt's
+``CartesianPrecision``): if the midpoint of the joint-space segment deviates from the line by
+more than ``precision.translational`` [m] or ``precision.rotational`` [rad], the step is split
+in two, recursively, down to ``precision.max_resolution`` (a fraction of the whole path). A joint
+jump (IK switching to another branch) shows up as such a deviation and ends the path. So does a
+waypoint that collides or violates the path constraints: the trajectory then ends at the last
+valid waypoint and its *fraction* tells how far along the line it got.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from mtc import msgs
+from mtc.planners import ik
+from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult, to_pose_stamped
+from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_model import JointModelGroup
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+__all__ = ["CartesianPath", "CartesianPrecision", "ik_frame_link"]
+
+
+@dataclass
+class CartesianPrecision:
+    """How closely a Cartesian path must follow the straight line (MoveIt's
+    ``moveit::core::CartesianPrecision``).
+
+    Attributes:
+        translational: largest position deviation between waypoints [m].
+        rotational: largest orientation deviation between waypoints [rad].
+        max_resolution: smallest step, as a fraction of the whole path, that the path may be
+            refined to while trying to meet the precision.
+    """
+
+    translational: float = 0.001
+    rotational: float = 0.01
+    max_resolution: float = 1e-5
+
+    def __post_init__(self):
+        for name in ("translational", "rotational", "max_resolution"):
+            value = getattr(self, name)
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+                raise ValueError(f"CartesianPrecision.{name} must be a positive number, got {value!r}")
+
+    def __str__(self) -> str:
+        # the text of MTC's Python binding, which has no closing parenthesis
+        return (
+            f"CartesianPrecision(translational={self.translational}, rotational={self.rotational}, "
+            f"max_resolution={self.max_resolution}"
+        )
+
+
+def _ik_frame(value):
+    # the attribute also takes a link name, as setIKFrame(link) does
+    return to_pose_stamped(value) if isinstance(value, str) else value
+
+
+def _rigid_inverse(T: np.ndarray) -> np.ndarray:
+    inv = np.eye(4)
+    inv[:3, :3] = T[:3, :3].T
+    inv[:3, 3] = -T[:3, :3].T @ T[:3, 3]
+    return inv
+
+
+def ik_frame_link(scene: PlanningScene, ik_frame: msgs.PoseStamped | None, jmg: JointModelGroup):
+    """The link to move and the IK frame's offset from it (MTC's ``getRobotTipForFrame``).
+
+    Returns:
+        ``(link, offset 4x4, None)`` or ``(None, None, error message)``.
+    """
+    state = scene.current_state
+    model = scene.robot_model
+    if ik_frame is None:
+        tips = list(jmg.end_effector_tips)
+        if len(tips) != 1:
+            return None, None, "missing ik_frame"
+        return tips[0], np.eye(4), None
+    frame = ik_frame.header.frame_id
+    if not state.knows_frame_transform(frame):
+        return None, None, f"ik_frame specified in unknown frame '{frame}'"
+    if frame in model._frame_ids:
+        link = frame
+    else:
+        attached = state._attached_frames(frame) if state._attached_frames is not None else None
+        if attached is None:
+            return None, None, "ik_frame doesn't specify a link frame"
+        link = attached[0]
+    link = model.rigid_parent_link(link)[0]
+    tip = state.get_frame_transform(frame) @ msgs.pose_to_matrix(ik_frame.pose)
+    offset = _rigid_inverse(state.get_global_link_transform(link)) @ tip
+    return link, offset, None
+
+
+class CartesianPath(PlannerInterface):
+    """Move a frame along a straight line in Cartesian space.
+
+    Properties:
+        ik_frame: the frame that moves (PoseStamped; default: the group's end-effector tip);
+            used for joint-space goals.
+        step_size: largest translation between consecutive waypoints [m] (0.01).
+        precision: :class:`CartesianPrecision` of the line.
+        min_fraction: fraction of the line that must be achieved for success (1.0).
+        kinematics_options: accepted for API parity (MoveIt's ``KinematicsQueryOptions``;
+            ``mtc``'s IK has no such options).
+        (and those of :class:`PlannerInterface`)
+    """
+
+    def __init__(self):
+        super().__init__()
+        p = self.properties
+        p.declare("ik_frame", None, "frame to move linearly (use for joint-space target)",
+                  type=msgs.PoseStamped, convert=_ik_frame)
+        p.declare("step_size", 0.01, "step size between consecutive waypoints")
+        p.declare("precision", CartesianPrecision(), "precision of linear path")
+        p.declare("min_fraction", 1.0, "fraction of motion required for success")
+        p.declare("kinematics_options", None, "KinematicsQueryOptions")
+
+    # ------------------------------------------------------------------ MTC setters
+    def setIKFrame(self, pose, link: str | None = None) -> None:
+        """``setIKFrame(PoseStamped)``, ``setIKFrame(pose, link)`` or ``setIKFrame(link)``."""
+        self.properties.set("ik_frame", to_pose_stamped(pose, link))
+
+    def setStepSize(self, step_size: float) -> None:
+        self.properties.set("step_size", step_size)
+
+    def setPrecision(self, precision: CartesianPrecision) -> None:
+        self.properties.set("precision", precision)
+
+    def setMinFraction(self, min_fraction: float) -> None:
+        self.properties.set("min_fraction", min_fraction)
+
+    def setMaxVelocityScaling(self, factor: float) -> None:
+        """Deprecated alias of ``setMaxVelocityScalingFactor``."""
+        self.setMaxVelocityScalingFactor(factor)
+
+    def setMaxAccelerationScaling(self, factor: float) -> None:
+        """Deprecated alias of ``setMaxAccelerationScalingFactor``."""
+        self.setMaxAccelerationScalingFactor(factor)
+
+    def setJumpThreshold(self, *args) -> None:
+        """Removed in MTC (a compile error there): joint jumps are caught by ``precision``."""
+        raise AttributeError(
+            "CartesianPath.setJumpThreshold was removed: joint jumps are detected through "
+            "precision (setPrecision(CartesianPrecision(...)))"
+        )
+
+    # ------------------------------------------------------------------ planning
+    def plan(
+        self,
+        from_scene: PlanningScene,
+        to_scene: PlanningScene,
+        group: str,
+        timeout: float,
+        path_constraints: msgs.Constraints | None = None,
+    ) -> tuple[PlannerResult, RobotTrajectory | None]:
+        """Move the IK frame on a straight line to its pose in ``to_scene``'s robot state."""
+        jmg = self._group(from_scene, group)
+        link, offset, error = ik_frame_link(from_scene, self.properties.get("ik_frame", None), jmg)
+        if error:
+            return PlannerResult(False, f"CartesianPath: {error}"), None
+        target = to_scene.current_state.get_global_link_transform(link) @ offset
+        return self.plan_to_pose(
+            from_scene, link, offset, target, jmg.name, self._effective_timeout(timeout), path_constraints
+        )
+
+    def plan_to_pose(
+        self,
+        from_scene: PlanningScene,
+        link: str,
+        offset: np.ndarray,
+        target: np.ndarray,
+        group: str,
+        timeout: float,
+        path_constraints: msgs.Constraints | None = None,
+    ) -> tuple[PlannerResult, RobotTrajectory | None]:
+        """Move ``pose(link) · offset`` on a straight line to ``target`` (planning frame)."""
+        props = self.properties
+        jmg = self._group(from_scene, group)
+        step_size = float(props.get("step_size"))
+        if not step_size > 0:
+            raise ValueError(f"step_size must be positive, got {step_size}")
+        precision: CartesianPrecision = props.get("precision")
+        min_fraction = float(props.get("min_fraction"))
+        deadline = time.perf_counter() + self._effective_timeout(timeout)
+        try:
+            validity = PathValidity(from_scene, jmg.name, path_constraints)
+        except (ValueError, KeyError) as e:
+            return PlannerResult(False, f"Invalid path constraints: {e}"), None
+
+        start = from_scene.current_state.copy()
+        ik_link, tip_offset = ik.resolve_tip(start, jmg.name, link)
+        frame_offset = tip_offset @ np.asarray(offset, dtype=float)
+        inv_offset = pin.SE3(_rigid_inverse(frame_offset))
+        solver = ik.get_ik_solver(start.robot_model, jmg.name, ik_link)
+        to_frame = pin.SE3(frame_offset)
+
+        T0 = solver.forward(start.positions) * to_frame
+        T1 = pin.SE3(np.asarray(target, dtype=float))
+        p0, p1 = T0.translation.copy(), T1.translation.copy()
+        quat0 = pin.Quaternion(T0.rotation)
+        quat1 = pin.Quaternion(T1.rotation)
+        distance = float(np.linalg.norm(p1 - p0))
+        steps = int(math.floor(distance / step_size)) + 1
+
+        def frame_pose(t: float) -> pin.SE3:
+            return pin.SE3(quat0.slerp(t, quat1).matrix(), p0 + t * (p1 - p0))
+
+        def precise(qa: np.ndarray, qb: np.ndarray, ta: float, tb: float) -> bool:
+            # the joint-space midpoint must lie on the line (else: deviation or a joint jump)
+            qm = qa + 0.5 * (qb - qa)
+            start.robot_model.enforce_mimic(qm)
+            actual = solver.forward(qm) * to_frame
+            expected = frame_pose(0.5 * (ta + tb))
+            if np.linalg.norm(actual.translation - expected.translation) > precision.translational:
+                return False
+            return float(np.linalg.norm(pin.log3(expected.rotation.T @ actual.rotation))) <= precision.rotational
+
+        waypoints: list[tuple[float, np.ndarray]] = [(0.0, start.positions.copy())]
+
+        def reach(qa: np.ndarray, ta: float, tb: float) -> bool:
+            """Append waypoints from (ta, qa) up to tb; False where the path must end."""
+            qb = qa.copy()
+            if not solver.descend(qb, frame_pose(tb) * inv_offset):
+                return False
+            if not validity(qb):
+                return False
+            if precise(qa, qb, ta, tb):
+                waypoints.append((tb, qb))
+                return True
+            if tb - ta < precision.max_resolution:
+                return False
+            tm = 0.5 * (ta + tb)
+            if not reach(qa, ta, tm):
+                return False
+            return reach(waypoints[-1][1], tm, tb)
+
+        for i in range(1, steps + 1):
+            if time.perf_counter() > deadline:
+                break
+            t = i / steps
+            if not reach(waypoints[-1][1], waypoints[-1][0], t):
+                break
+        fraction = waypoints[-1][0]
+
+        traj = RobotTrajectory(start.robot_model, jmg.name)
+        for _, q in waypoints:
+            state = start.copy()
+            state.positions = q
+            traj.add_suffix_waypoint(state, 0.0)
+        self._apply_timing(traj)
+        if fraction < min_fraction:
+            return PlannerResult(False, f"CartesianPath: min_fraction not met. Achieved: {fraction:.6f}"), traj
+        return PlannerResult(True, f"achieved fraction: {fraction:.6f}"), traj

@@ -1,0 +1,135 @@
+"""Straight-line motion in joint space (MTC's ``solvers/joint_interpolation.h``).
+
+No obstacle avoidance: the line is sampled and every sample is checked; the first invalid one
+ends planning with the partial trajectory and MTC's failure message.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from mtc import msgs
+from mtc.planners import ik
+from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult
+from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+__all__ = ["JointInterpolationPlanner"]
+
+
+def _max_joint_distance(a: RobotState, b: RobotState) -> float:
+    """Largest distance of any active variable of the robot (continuous joints wrap), MoveIt's
+    per-joint ``distance`` with distance factor 1."""
+    model = a.robot_model
+    mask = model.active_variable_mask
+    delta = b.positions[mask] - a.positions[mask]
+    cont = model.continuous_mask[mask]
+    if cont.any():
+        delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
+    return float(np.abs(delta).max()) if delta.size else 0.0
+
+
+class JointInterpolationPlanner(PlannerInterface):
+    """Interpolate linearly in joint space from start to goal, checking every ``max_step``.
+
+    Properties:
+        max_step: largest change of any joint between two waypoints [rad or m] (0.1).
+        max_effort: joint effort for the first and last waypoints (MTC writes it into the
+            trajectory for grippers); ``mtc`` trajectories carry no efforts, so it is kept
+            for API parity only.
+        (and those of :class:`PlannerInterface`)
+    """
+
+    def __init__(self):
+        super().__init__()
+        self.properties.declare("max_step", 0.1, "max joint step")
+        self.properties.declare("max_effort", None, "max effort", type=float)
+
+    def plan(
+        self,
+        from_scene: PlanningScene,
+        to_scene: PlanningScene,
+        group: str,
+        timeout: float,
+        path_constraints: msgs.Constraints | None = None,
+    ) -> tuple[PlannerResult, RobotTrajectory | None]:
+        """Interpolate from ``from_scene``'s state to ``to_scene``'s (as MTC: ``timeout`` and
+        ``path_constraints`` are not used for joint goals)."""
+        jmg = self._group(from_scene, group)
+        max_step = float(self.properties.get("max_step"))
+        if not max_step > 0:
+            raise ValueError(f"max_step must be positive, got {max_step}")
+        start = from_scene.current_state
+        goal = to_scene.current_state
+        traj = RobotTrajectory(from_scene.robot_model, jmg.name)
+        traj.add_suffix_waypoint(start, 0.0)
+        if from_scene.is_state_colliding(start, jmg.name):
+            return PlannerResult(False, "Start state is in collision!"), traj
+        if not start.satisfies_bounds():
+            return PlannerResult(False, "Start state is out of bounds!"), traj
+
+        d = _max_joint_distance(start, goal)
+        delta = 1.0 if d < 1e-6 else max_step / d
+        # t = k * delta rather than an accumulated sum, so no near-duplicate of the goal
+        # appears just below t = 1
+        k = 1
+        previous = 0.0
+        while k * delta < 1.0:
+            t = k * delta
+            waypoint = start.interpolate(goal, t)
+            traj.add_suffix_waypoint(waypoint, t - previous)
+            previous = t
+            if from_scene.is_state_colliding(waypoint, jmg.name):
+                return PlannerResult(False, "Waypoint is in collision!"), traj
+            if not waypoint.satisfies_bounds():
+                return PlannerResult(False, "Waypoint is out of bounds!"), traj
+            k += 1
+        traj.add_suffix_waypoint(goal, 1.0 - previous)
+        if from_scene.is_state_colliding(goal, jmg.name):
+            return PlannerResult(False, "Goal state is in collision!"), traj
+        if not goal.satisfies_bounds():
+            return PlannerResult(False, "Goal state is out of bounds!"), traj
+        self._apply_timing(traj)
+        return PlannerResult(True, ""), traj
+
+    def plan_to_pose(
+        self,
+        from_scene: PlanningScene,
+        link: str,
+        offset: np.ndarray,
+        target: np.ndarray,
+        group: str,
+        timeout: float,
+        path_constraints: msgs.Constraints | None = None,
+    ) -> tuple[PlannerResult, RobotTrajectory | None]:
+        """Solve IK for the target (collision-free, within the path constraints), then
+        interpolate to it in joint space."""
+        jmg = self._group(from_scene, group)
+        timeout = self._effective_timeout(timeout)
+        deadline = time.perf_counter() + timeout
+        try:
+            validity = PathValidity(from_scene, jmg.name, path_constraints)
+        except (ValueError, KeyError) as e:
+            return PlannerResult(False, f"Invalid path constraints: {e}"), None
+        ik_timeout = timeout if math.isfinite(timeout) else jmg.default_ik_timeout
+        solutions = ik.solve_ik(
+            from_scene.current_state,
+            jmg.name,
+            np.asarray(target, dtype=float),
+            tip=link,
+            offset=np.asarray(offset, dtype=float),
+            timeout=ik_timeout,
+            is_valid=lambda state: validity(state.positions),
+            rng=0,
+        )
+        if not solutions:
+            return PlannerResult(False, "IK failed for pose target."), None
+        if time.perf_counter() > deadline:
+            return PlannerResult(False, "timeout"), None
+        to_scene = from_scene.diff()
+        to_scene.current_state = solutions[0]
+        return self.plan(from_scene, to_scene, jmg.name, timeout, path_constraints)

@@ -1,0 +1,484 @@
+"""Pilz industrial motion planner: PTP, LIN and CIRC motions (MoveIt's
+``pilz_industrial_motion_planner``), behind ``PipelinePlanner("pilz_industrial_motion_planner")``.
+
+* ``PTP``: point to point in joint space. All joints move on the straight joint-space line with
+  one shared trapezoidal velocity profile (they start, stop and switch phases together) under
+  the scaled joint velocity and acceleration limits; computed with ruckig (phase
+  synchronization, unlimited jerk). A pose goal is turned into a joint goal by IK first.
+* ``LIN``: the frame moves on a straight Cartesian line (position linear, orientation by
+  slerp) with a trapezoidal speed profile under the scaled Cartesian limits
+  (:class:`CartesianLimits`). Every sample is solved by IK from the previous one; the planner
+  fails if IK fails or jumps anywhere on the line. Where the line would need faster joints than
+  their scaled limits, the whole motion is slowed down uniformly (as Pilz adapts its timing).
+* ``CIRC``: the frame moves on a circular arc, orientation by slerp, with the same speed profile.
+  As in Pilz, the arc is given through the request's path constraints: ``path_constraints.name``
+  is ``"interim"`` (a point the arc passes through) or ``"center"`` (the circle's centre; start and
+  goal must lie at the same distance from it and not opposite each other), and the point is
+  the position of the first primitive pose of the first position constraint's
+  ``constraint_region``, in that constraint's ``header.frame_id`` (empty: planning frame). With
+  ``"center"`` the shorter arc is taken. These constraints only describe the arc; they are not
+  checked as path constraints.
+
+Every waypoint is checked for collisions (for the group) and against path constraints (PTP,
+LIN); the first failing one ends planning with a message saying which waypoint and which
+bodies, after MoveIt's error-code name (``"INVALID_MOTION_PLAN: ..."``). The part of the path
+before it is returned, re-timed to end at rest, so stages can show it or measure its length.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from mtc import msgs
+from mtc.planners import ik
+from mtc.planners.planner_interface import PathValidity, PlannerResult, error_message
+from mtc.planners.time_parameterization import synchronized_ptp, time_parameterize, trapezoid_profile
+from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+log = logging.getLogger(__name__)
+
+__all__ = ["PilzPipeline", "CartesianLimits", "KNOWN_PLANNERS", "DEFAULT_PLANNER", "PIPELINE_NAME"]
+
+PIPELINE_NAME = "pilz_industrial_motion_planner"
+KNOWN_PLANNERS = ("PTP", "LIN", "CIRC")
+DEFAULT_PLANNER = "PTP"
+
+_RADIUS_TOLERANCE = 1e-3  # [m] start and goal distance to a CIRC centre may differ this much
+_COLINEAR = 1e-6
+
+
+@dataclass
+class CartesianLimits:
+    """Cartesian limits of LIN and CIRC (Pilz's ``pilz_cartesian_limits.yaml``; defaults: the
+    Panda's).
+
+    Attributes:
+        max_trans_vel: translational speed [m/s].
+        max_trans_acc: translational acceleration [m/s^2].
+        max_trans_dec: translational deceleration [m/s^2] (negative).
+        max_rot_vel: rotational speed [rad/s]; the rotational acceleration is
+            ``max_trans_acc / max_trans_vel * max_rot_vel`` (and likewise the deceleration).
+    """
+
+    max_trans_vel: float = 1.0
+    max_trans_acc: float = 2.25
+    max_trans_dec: float = -5.0
+    max_rot_vel: float = 1.57
+
+    def __post_init__(self):
+        for name in ("max_trans_vel", "max_trans_acc", "max_rot_vel"):
+            if not getattr(self, name) > 0:
+                raise ValueError(f"CartesianLimits.{name} must be positive, got {getattr(self, name)}")
+        if not self.max_trans_dec < 0:
+            raise ValueError(f"CartesianLimits.max_trans_dec must be negative, got {self.max_trans_dec}")
+
+
+def _rigid_inverse(T: np.ndarray) -> np.ndarray:
+    inv = np.eye(4)
+    inv[:3, :3] = T[:3, :3].T
+    inv[:3, 3] = -T[:3, :3].T @ T[:3, 3]
+    return inv
+
+
+def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
+    return pin.exp3(np.asarray(axis, dtype=float) * angle)
+
+
+class _Failure(Exception):
+    """Ends a planning request with a message (and maybe the valid part of the path)."""
+
+    def __init__(self, message: str, positions: list | None = None):
+        super().__init__(message)
+        self.message = message
+        self.positions = positions
+
+
+class PilzPipeline:
+    """The Pilz planners for one robot model.
+
+    Args:
+        robot_model: the robot.
+        cartesian_limits: limits of LIN and CIRC.
+        sampling_time: largest time between two waypoints [s].
+        max_joint_step: largest joint motion between two PTP waypoints [rad or m] (the
+            resolution of the collision checks).
+        max_cartesian_step: largest translation between two LIN/CIRC waypoints [m].
+        max_rotation_step: largest rotation between two LIN/CIRC waypoints [rad].
+    """
+
+    def __init__(
+        self,
+        robot_model,
+        cartesian_limits: CartesianLimits | None = None,
+        sampling_time: float = 0.1,
+        max_joint_step: float = 0.05,
+        max_cartesian_step: float = 0.005,
+        max_rotation_step: float = 0.05,
+    ):
+        self.robot_model = robot_model
+        self.cartesian_limits = cartesian_limits or CartesianLimits()
+        self.sampling_time = float(sampling_time)
+        self.max_joint_step = float(max_joint_step)
+        self.max_cartesian_step = float(max_cartesian_step)
+        self.max_rotation_step = float(max_rotation_step)
+
+    # ------------------------------------------------------------------ requests
+    def plan_joint(
+        self,
+        scene: PlanningScene,
+        start: RobotState,
+        goal: RobotState,
+        group: str,
+        planner_id: str,
+        timeout: float,
+        max_velocity_scaling_factor: float = 1.0,
+        max_acceleration_scaling_factor: float = 1.0,
+        path_constraints: msgs.Constraints | None = None,
+    ) -> tuple[PlannerResult, RobotTrajectory | None]:
+        """Plan to the group's variables in ``goal``; LIN and CIRC go to the pose that the
+        group's end-effector tip has in ``goal``."""
+        planner_id = self._check_planner(planner_id)
+        jmg = self.robot_model.get_joint_model_group(group)
+        if planner_id == "PTP":
+            return self._run(
+                lambda: self._ptp(scene, start, goal, jmg, path_constraints, max_velocity_scaling_factor,
+                                  max_acceleration_scaling_factor),
+                start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor,
+            )
+        tips = list(jmg.end_effector_tips)
+        if len(tips) != 1:
+            return PlannerResult(False, error_message(
+                "INVALID_GROUP_NAME", f"{planner_id} needs a group with one end-effector tip; "
+                f"group '{jmg.name}' has {', '.join(tips) or 'none'}")), None
+        target = goal.get_global_link_transform(tips[0])
+        return self.plan_pose(scene, start, tips[0], np.eye(4), target, group, planner_id, timeout,
+                              max_velocity_scaling_factor, max_acceleration_scaling_factor, path_constraints)
+
+    def plan_pose(
+        self,
+        scene: PlanningScene,
+        start: RobotState,
+        link: str,
+        offset: np.ndarray,
+        target: np.ndarray,
+        group: str,
+        planner_id: str,
+        timeout: float,
+        max_velocity_scaling_factor: float = 1.0,
+        max_acceleration_scaling_factor: float = 1.0,
+        path_constraints: msgs.Constraints | None = None,
+        seed: int = 0,
+    ) -> tuple[PlannerResult, RobotTrajectory | None]:
+        """Plan so that ``pose(link) · offset`` ends at ``target`` (planning frame)."""
+        planner_id = self._check_planner(planner_id)
+        jmg = self.robot_model.get_joint_model_group(group)
+        deadline = time.perf_counter() + (timeout if math.isfinite(timeout) else 1e9)
+        vs, acs = max_velocity_scaling_factor, max_acceleration_scaling_factor
+        target = np.asarray(target, dtype=float)
+        offset = np.asarray(offset, dtype=float)
+        if planner_id == "PTP":
+            def ptp_to_pose():
+                validity = self._validity(scene, jmg.name, path_constraints)
+                ik_timeout = min(max(deadline - time.perf_counter(), 0.0), 1.0)
+                solutions = ik.solve_ik(start, jmg.name, target, tip=link, offset=offset, timeout=ik_timeout,
+                                        is_valid=lambda s: validity(s.positions), rng=seed)
+                if not solutions:
+                    raise _Failure(error_message(
+                        "NO_IK_SOLUTION", f"no valid IK solution for the goal pose of '{link}'"))
+                return self._ptp(scene, start, solutions[0], jmg, path_constraints, vs, acs)
+
+            return self._run(ptp_to_pose, start, jmg, vs, acs)
+
+        def cartesian():
+            return self._cartesian(scene, start, link, offset, target, jmg, planner_id, path_constraints, vs, acs,
+                                   deadline)
+
+        return self._run(cartesian, start, jmg, vs, acs)
+
+    # ------------------------------------------------------------------ helpers
+    @staticmethod
+    def _check_planner(planner_id: str) -> str:
+        planner_id = planner_id or DEFAULT_PLANNER
+        if planner_id not in KNOWN_PLANNERS:
+            raise ValueError(
+                f"unknown planner '{planner_id}' for pipeline '{PIPELINE_NAME}' (known: {', '.join(KNOWN_PLANNERS)})"
+            )
+        return planner_id
+
+    @staticmethod
+    def _validity(scene, group, path_constraints, check_constraints=True) -> PathValidity:
+        try:
+            return PathValidity(scene, group, path_constraints if check_constraints else None)
+        except (ValueError, KeyError) as e:
+            raise _Failure(error_message("INVALID_GOAL_CONSTRAINTS", f"invalid path constraints: {e}")) from None
+
+    def _run(self, fn, start, jmg, vs, acs):
+        try:
+            return fn()
+        except _Failure as failure:
+            traj = None
+            if failure.positions:
+                # the valid part of the path, timed to end at rest
+                traj = RobotTrajectory(self.robot_model, jmg.name)
+                for q in failure.positions:
+                    state = start.copy()
+                    state.positions = q
+                    traj.add_suffix_waypoint(state, 0.0)
+                time_parameterize(traj, vs, acs)
+            return PlannerResult(False, failure.message), traj
+
+    def _check_endpoints(self, validity: PathValidity, start_q, goal_q, jmg, check_goal=True):
+        model = self.robot_model
+        idx = jmg.variable_indices
+        lo, hi = model.lower_bounds[idx], model.upper_bounds[idx]
+        if np.any(start_q[idx] < lo - 1e-9) or np.any(start_q[idx] > hi + 1e-9):
+            raise _Failure(error_message("START_STATE_INVALID", f"start state is outside the joint bounds of group '{jmg.name}'"))
+        if not validity.collision_free(start_q):
+            raise _Failure(error_message("START_STATE_IN_COLLISION", validity.collision_detail(start_q)))
+        if not validity.constraints_satisfied(start_q):
+            raise _Failure(error_message("START_STATE_VIOLATES_PATH_CONSTRAINTS"))
+        if not check_goal:
+            return
+        if np.any(goal_q[idx] < lo - 1e-9) or np.any(goal_q[idx] > hi + 1e-9):
+            names = [n for n, v, a, b in zip(jmg.variable_names, goal_q[idx], lo, hi) if v < a - 1e-9 or v > b + 1e-9]
+            raise _Failure(error_message("GOAL_STATE_INVALID", f"goal outside the bounds of {', '.join(names)}"))
+        if not validity.collision_free(goal_q):
+            raise _Failure(error_message("GOAL_IN_COLLISION", validity.collision_detail(goal_q)))
+        if not validity.constraints_satisfied(goal_q):
+            raise _Failure(error_message("GOAL_VIOLATES_PATH_CONSTRAINTS"))
+
+    def _check_path(self, validity: PathValidity, Q: list[np.ndarray], skip_constraints=False) -> None:
+        n = len(Q)
+        for k, q in enumerate(Q):
+            if not validity.collision_free(q):
+                raise _Failure(
+                    error_message("INVALID_MOTION_PLAN", f"waypoint {k} of {n} is in collision: {validity.collision_detail(q)}"),
+                    Q[:k],
+                )
+            if not skip_constraints and not validity.constraints_satisfied(q):
+                raise _Failure(
+                    error_message("INVALID_MOTION_PLAN", f"waypoint {k} of {n} violates the path constraints"), Q[:k]
+                )
+
+    def _trajectory(self, start: RobotState, jmg, Q, times, V, A) -> RobotTrajectory:
+        traj = RobotTrajectory(self.robot_model, jmg.name)
+        previous = 0.0
+        for q, t in zip(Q, times):
+            state = start.copy()
+            state.positions = q
+            traj.add_suffix_waypoint(state, float(t) - previous)
+            previous = float(t)
+        traj.velocities = np.asarray(V, dtype=float)
+        traj.accelerations = np.asarray(A, dtype=float)
+        return traj
+
+    # ------------------------------------------------------------------ PTP
+    def _ptp(self, scene, start: RobotState, goal: RobotState, jmg, path_constraints, vs, acs):
+        model = self.robot_model
+        validity = self._validity(scene, jmg.name, path_constraints)
+        start_q = start.positions.copy()
+        goal_q = start_q.copy()
+        idx = jmg.variable_indices
+        goal_q[idx] = goal.positions[idx]
+        model.enforce_mimic(goal_q)
+        self._check_endpoints(validity, start_q, goal_q, jmg)
+        q0 = start_q[idx]
+        delta = goal_q[idx] - q0
+        cont = model.continuous_mask[idx]
+        if cont.any():  # continuous joints take the short way round
+            delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
+        vmax = model.velocity_limits[idx] * vs
+        amax = model.acceleration_limits[idx] * acs
+        duration, sample = synchronized_ptp(q0, q0 + delta, vmax, amax)
+        steps = max(
+            1,
+            math.ceil(duration / self.sampling_time - 1e-9),
+            math.ceil(float(np.abs(delta).max(initial=0.0)) / self.max_joint_step - 1e-9),
+        )
+        times = np.linspace(0.0, duration, steps + 1)
+        Q, V, A = [], [], []
+        for t in times:
+            p, v, a = sample(t)
+            q = start_q.copy()
+            q[idx] = p
+            model.enforce_mimic(q)
+            Q.append(q)
+            V.append(v)
+            A.append(a)
+        Q[-1] = goal_q.copy()  # exactly the goal (and its continuous-joint values)
+        self._check_path(validity, Q)
+        return PlannerResult(True, ""), self._trajectory(start, jmg, Q, times, V, A)
+
+    # ------------------------------------------------------------------ LIN, CIRC
+    def _arc(self, scene, planner_id, path_constraints, link, p0, p1):
+        """The CIRC circle: (centre, axis, radius, angle) of the arc from p0 to p1."""
+        pc = path_constraints
+        if pc is None or pc.name not in ("interim", "center") or not pc.position_constraints:
+            raise _Failure(error_message(
+                "INVALID_GOAL_CONSTRAINTS",
+                "CIRC needs path_constraints named 'interim' or 'center' with a position constraint giving the point",
+            ))
+        constraint = pc.position_constraints[0]
+        if not constraint.constraint_region.primitive_poses:
+            raise _Failure(error_message(
+                "INVALID_GOAL_CONSTRAINTS", f"CIRC {pc.name} point: the position constraint has no primitive pose"))
+        frame = constraint.header.frame_id
+        try:
+            base = scene.get_frame_transform(frame) if frame else np.eye(4)
+        except KeyError as e:
+            raise _Failure(error_message("FRAME_TRANSFORM_FAILURE", f"CIRC {pc.name} point: {e}")) from None
+        pos = constraint.constraint_region.primitive_poses[0].position
+        point = base[:3, :3] @ np.array([pos.x, pos.y, pos.z], dtype=float) + base[:3, 3]
+        if pc.name == "center":
+            r0, r1 = p0 - point, p1 - point
+            radius0, radius1 = float(np.linalg.norm(r0)), float(np.linalg.norm(r1))
+            if abs(radius0 - radius1) > _RADIUS_TOLERANCE:
+                raise _Failure(error_message(
+                    "PLANNING_FAILED",
+                    f"CIRC: start and goal are at different distances from the center ({radius0:.4f} m, {radius1:.4f} m)",
+                ))
+            normal = np.cross(r0, r1)
+            if radius0 < _COLINEAR or np.linalg.norm(normal) < _COLINEAR * radius0 * radius1:
+                raise _Failure(error_message(
+                    "PLANNING_FAILED", "CIRC: start, goal and center are colinear, the circle's plane is undefined"))
+            axis = normal / np.linalg.norm(normal)
+            angle = math.atan2(float(np.linalg.norm(normal)), float(r0 @ r1))  # shorter arc, in (0, pi)
+            return point, axis, radius0, angle
+        u, v = point - p0, p1 - p0
+        w = np.cross(u, v)
+        ww = float(w @ w)
+        if ww < (_COLINEAR * max(float(u @ u), float(v @ v), 1e-12)) ** 2 or ww < 1e-18:
+            raise _Failure(error_message(
+                "PLANNING_FAILED", "CIRC: start, interim and goal points are colinear, the circle is undefined"))
+        center = p0 + (float(u @ u) * np.cross(v, w) + float(v @ v) * np.cross(w, u)) / (2.0 * ww)
+        axis = w / math.sqrt(ww)
+        r0, r1 = p0 - center, p1 - center
+        # P0 -> interim -> P1 runs counter-clockwise about w: the arc's angle from r0 to r1
+        angle = math.atan2(float(axis @ np.cross(r0, r1)), float(r0 @ r1))
+        if angle <= 0:
+            angle += 2 * math.pi
+        return center, axis, float(np.linalg.norm(r0)), angle
+
+    def _cartesian(self, scene, start, link, offset, target, jmg, planner_id, path_constraints, vs, acs, deadline):
+        model = self.robot_model
+        is_circ = planner_id == "CIRC"
+        validity = self._validity(scene, jmg.name, path_constraints, check_constraints=not is_circ)
+        start_q = start.positions.copy()
+        self._check_endpoints(validity, start_q, None, jmg, check_goal=False)
+        ik_link, tip_offset = ik.resolve_tip(start, jmg.name, link)
+        frame_offset = tip_offset @ offset
+        to_frame = pin.SE3(frame_offset)
+        inv_offset = pin.SE3(_rigid_inverse(frame_offset))
+        solver = ik.get_ik_solver(model, jmg.name, ik_link)
+        T0 = solver.forward(start_q) * to_frame
+        T1 = pin.SE3(target)
+        p0, p1 = T0.translation.copy(), T1.translation.copy()
+        quat0, quat1 = pin.Quaternion(T0.rotation), pin.Quaternion(T1.rotation)
+        rot_angle = float(np.linalg.norm(pin.log3(T0.rotation.T @ T1.rotation)))
+
+        if is_circ:
+            center, axis, radius, arc_angle = self._arc(scene, planner_id, path_constraints, link, p0, p1)
+            r0 = p0 - center
+            length = radius * arc_angle
+
+            def position(s: float) -> np.ndarray:
+                return center + _rotation(axis, s * arc_angle) @ r0
+        else:
+            length = float(np.linalg.norm(p1 - p0))
+
+            def position(s: float) -> np.ndarray:
+                return p0 + s * (p1 - p0)
+
+        def frame_pose(s: float) -> pin.SE3:
+            return pin.SE3(quat0.slerp(s, quat1).matrix(), position(s))
+
+        lim = self.cartesian_limits
+        trans_v, trans_a, trans_d = lim.max_trans_vel * vs, lim.max_trans_acc * acs, -lim.max_trans_dec * acs
+        rot_v = lim.max_rot_vel * vs
+        rot_a = lim.max_trans_acc / lim.max_trans_vel * lim.max_rot_vel * acs
+        rot_d = -lim.max_trans_dec / lim.max_trans_vel * lim.max_rot_vel * acs
+        # limits on the path parameter s in [0, 1] (whichever of translation and rotation is slower)
+        v_s, a_s, d_s = math.inf, math.inf, math.inf
+        if length > 1e-9:
+            v_s, a_s, d_s = min(v_s, trans_v / length), min(a_s, trans_a / length), min(d_s, trans_d / length)
+        if rot_angle > 1e-9:
+            v_s, a_s, d_s = min(v_s, rot_v / rot_angle), min(a_s, rot_a / rot_angle), min(d_s, rot_d / rot_angle)
+        idx = jmg.variable_indices
+        if not math.isfinite(v_s):
+            # start and goal coincide: nothing to move
+            Q = [start_q]
+            self._check_path(validity, Q, skip_constraints=is_circ)
+            zeros = np.zeros((1, len(idx)))
+            return PlannerResult(True, ""), self._trajectory(start, jmg, Q, [0.0], zeros, zeros)
+        duration, profile = trapezoid_profile(1.0, v_s, a_s, d_s)
+        steps = max(
+            1,
+            math.ceil(duration / self.sampling_time - 1e-9),
+            math.ceil(v_s * duration * length / self.max_cartesian_step - 1e-9),
+            math.ceil(v_s * duration * rot_angle / self.max_rotation_step - 1e-9),
+        )
+        times = np.linspace(0.0, duration, steps + 1)
+        S = np.array([profile(t) for t in times])
+        S[0], S[-1] = (0.0, 0.0, S[0][2]), (1.0, 0.0, S[-1][2])
+
+        Q = [start_q]
+        for k in range(1, len(times)):
+            if time.perf_counter() > deadline:
+                raise _Failure(error_message("TIMED_OUT", f"{planner_id} took longer than the timeout"), Q)
+            s = float(S[k, 0])
+            q = Q[-1].copy()
+            if not solver.descend(q, frame_pose(s) * inv_offset):
+                raise _Failure(error_message(
+                    "NO_IK_SOLUTION", f"{planner_id}: no IK solution at {100 * s:.1f} % of the path of '{link}'"), Q)
+            # a joint-space jump between samples shows as a midpoint off the path
+            qm = 0.5 * (Q[-1] + q)
+            model.enforce_mimic(qm)
+            actual = solver.forward(qm) * to_frame
+            expected = frame_pose(0.5 * (float(S[k - 1, 0]) + s))
+            if np.linalg.norm(actual.translation - expected.translation) > 1e-3 or np.linalg.norm(
+                pin.log3(expected.rotation.T @ actual.rotation)
+            ) > 1e-2:
+                raise _Failure(error_message(
+                    "NO_IK_SOLUTION", f"{planner_id}: IK jumps between waypoints at {100 * s:.1f} % of the path of '{link}'"
+                ), Q)
+            Q.append(q)
+        self._check_path(validity, Q, skip_constraints=is_circ)
+
+        # joint velocities and accelerations along the path: q(s(t)) with s(t) the profile
+        P = np.array([q[idx] for q in Q])
+        cont = model.continuous_mask[idx]
+        if cont.any():
+            d = np.diff(P[:, cont], axis=0)
+            P[1:, cont] = P[0, cont] + np.cumsum((d + np.pi) % (2 * np.pi) - np.pi, axis=0)
+        s_vals = S[:, 0]
+        unique = np.concatenate(([True], np.diff(s_vals) > 1e-12))
+        dq = np.zeros_like(P)
+        ddq = np.zeros_like(P)
+        if unique.sum() >= 3:
+            su, Pu = s_vals[unique], P[unique]
+            d1 = np.gradient(Pu, su, axis=0)
+            d2 = np.gradient(d1, su, axis=0)
+            pos = np.cumsum(unique) - 1
+            dq, ddq = d1[pos], d2[pos]
+        elif unique.sum() == 2:
+            dq[:] = (P[-1] - P[0]) / (s_vals[-1] - s_vals[0])
+        V = dq * S[:, 1:2]
+        A = ddq * S[:, 1:2] ** 2 + dq * S[:, 2:3]
+        vmax = model.velocity_limits[idx] * vs
+        amax = model.acceleration_limits[idx] * acs
+        # slow the whole motion down where the joints cannot follow (as Pilz scales its timing)
+        scale = max(1.0, float(np.max(np.abs(V) / vmax)), math.sqrt(float(np.max(np.abs(A) / amax))))
+        if scale > 1.0:
+            times = times * scale
+            V = V / scale
+            A = A / (scale * scale)
+        return PlannerResult(True, ""), self._trajectory(start, jmg, Q, times, V, A)
+

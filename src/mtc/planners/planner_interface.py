@@ -1,0 +1,289 @@
+"""The planner base class and its result type (MTC's ``solvers/planner_interface.h``).
+
+A planner holds its settings in its own :class:`~mtc.core.properties.PropertyMap`, readable
+and writable as typed attributes (``planner.max_velocity_scaling_factor = 0.1``) and through
+MTC's setters (``setMaxVelocityScalingFactor(0.1)``). MTC's C++ ``plan()`` overloads, which fill
+an out-parameter trajectory, become two methods that return ``(PlannerResult, trajectory)``:
+:meth:`PlannerInterface.plan` (to the robot state of another scene) and
+:meth:`PlannerInterface.plan_to_pose` (a link frame to a Cartesian pose).
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+
+import numpy as np
+
+from mtc import msgs
+from mtc.core.properties import PropertyMap, TypedPropertyAccess
+from mtc.planners.time_parameterization import (
+    TimeOptimalTrajectoryGeneration,
+    TimeParameterization,
+    check_scaling_factor,
+    limit_cartesian_speed,
+)
+from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_model import JointModelGroup, RobotModel
+from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+__all__ = [
+    "PlannerInterface",
+    "PlannerResult",
+    "PathValidity",
+    "error_message",
+    "to_pose_stamped",
+]
+
+
+@dataclass(frozen=True)
+class PlannerResult:
+    """Outcome of a planning request (MTC's ``PlannerInterface::Result``): truthy iff success.
+
+    Attributes:
+        success: whether the planner reached the goal.
+        message: why it failed (or, for some planners, how well it did).
+    """
+
+    success: bool
+    message: str = ""
+
+    def __bool__(self) -> bool:
+        return bool(self.success)
+
+
+def error_message(code: str, detail: str = "") -> str:
+    """A pipeline failure message: MoveIt's error-code name (as MTC's PipelinePlanner reports
+    it), followed by what exactly went wrong, e.g. ``"GOAL_IN_COLLISION: panda_hand - box"``."""
+    return f"{code}: {detail}" if detail else code
+
+
+def _scaling(name: str):
+    def convert(value):
+        check_scaling_factor(name, value)
+        return value
+
+    return convert
+
+
+def _non_negative(name: str):
+    def convert(value):
+        if isinstance(value, (int, float)) and not isinstance(value, bool) and value < 0:
+            raise ValueError(f"{name} must not be negative, got {value}")
+        return value
+
+    return convert
+
+
+def to_pose_stamped(pose, link: str | None = None) -> msgs.PoseStamped:
+    """An IK frame as ``msgs.PoseStamped`` from MTC's ``setIKFrame`` overloads: a PoseStamped;
+    a pose (4x4 or ``msgs.Pose``) with a link; or a link name alone (identity pose).
+
+    Raises:
+        TypeError: any other combination.
+    """
+    if isinstance(pose, msgs.PoseStamped) and link is None:
+        return pose
+    if isinstance(pose, str) and link is None:
+        return msgs.PoseStamped(header=msgs.Header(frame_id=pose), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
+    if link is not None and isinstance(link, str):
+        if isinstance(pose, msgs.Pose):
+            return msgs.PoseStamped(header=msgs.Header(frame_id=link), pose=pose)
+        if isinstance(pose, np.ndarray) and pose.shape == (4, 4):
+            return msgs.PoseStamped(header=msgs.Header(frame_id=link), pose=msgs.matrix_to_pose(pose))
+    raise TypeError(
+        "an IK frame is a PoseStamped, a pose (4x4 array or msgs.Pose) with a link name, or a link name; "
+        f"got {type(pose).__name__}" + ("" if link is None else f" and {type(link).__name__}")
+    )
+
+
+class PathValidity:
+    """Whether states are collision-free (for a group) and satisfy path constraints.
+
+    Collision checks use the scene's fast checker on raw variable vectors; path constraints
+    are evaluated by :class:`mtc.planners.constraints.KinematicConstraintSet` (only built
+    when there are any).
+
+    Raises:
+        ValueError, KeyError: invalid path constraints (unknown link or frame, bad region).
+    """
+
+    def __init__(self, scene: PlanningScene, group: str, path_constraints: msgs.Constraints | None = None):
+        self.scene = scene
+        self.group = group
+        self._collision_free = scene.state_validity_checker(group)
+        self._constraints = None
+        if path_constraints is not None and (
+            path_constraints.joint_constraints
+            or path_constraints.position_constraints
+            or path_constraints.orientation_constraints
+            or path_constraints.visibility_constraints
+        ):
+            from mtc.planners.constraints import KinematicConstraintSet  # owner B's module
+
+            kcs = KinematicConstraintSet(scene.robot_model, path_constraints)
+            if not kcs.empty:
+                self._constraints = kcs
+        self._attached = scene.current_state._attached_frames
+
+    @property
+    def has_constraints(self) -> bool:
+        return self._constraints is not None
+
+    def collision_free(self, q: np.ndarray) -> bool:
+        return bool(self._collision_free(q))
+
+    def constraints_satisfied(self, q: np.ndarray) -> bool:
+        if self._constraints is None:
+            return True
+        state = RobotState(self.scene.robot_model, q)
+        state._attached_frames = self._attached
+        return bool(self._constraints.satisfied(state, self.scene))
+
+    def __call__(self, q: np.ndarray) -> bool:
+        return self.collision_free(q) and self.constraints_satisfied(q)
+
+    def collision_detail(self, q: np.ndarray) -> str:
+        """``"a - b, c - d"`` for the colliding pairs of ``q`` (for failure messages)."""
+        state = RobotState(self.scene.robot_model, q)
+        pairs = self.scene.get_collisions(state, self.group)
+        return ", ".join(f"{a} - {b}" for a, b in pairs)
+
+
+class PlannerInterface(TypedPropertyAccess, ABC):
+    """Base of all planners (MTC's ``PlannerInterface``).
+
+    Properties:
+        timeout: upper bound on the time of one planning request [s] (default: no bound;
+            the stage's timeout applies).
+        max_velocity_scaling_factor: fraction (0, 1] of the joint velocity limits.
+        max_acceleration_scaling_factor: fraction (0, 1] of the acceleration limits.
+        max_cartesian_speed: speed limit of ``cartesian_speed_limited_link`` [m/s] (0: none).
+        cartesian_speed_limited_link: link whose Cartesian speed is limited.
+        time_parameterization: how trajectories are timed
+            (:class:`TimeOptimalTrajectoryGeneration`); None leaves them untimed.
+    """
+
+    def __init__(self):
+        self._properties = PropertyMap()
+        self._robot_model: RobotModel | None = None
+        p = self._properties
+        p.declare("timeout", math.inf, "timeout for planner (s)", convert=_non_negative("timeout"))
+        p.declare(
+            "max_velocity_scaling_factor", 1.0, "scale down max velocity by this factor",
+            convert=_scaling("max_velocity_scaling_factor"),
+        )
+        p.declare(
+            "max_acceleration_scaling_factor", 1.0, "scale down max acceleration by this factor",
+            convert=_scaling("max_acceleration_scaling_factor"),
+        )
+        p.declare(
+            "max_cartesian_speed", 0.0, "maximum Cartesian speed of the link [m/s] (0: no limit)",
+            convert=_non_negative("max_cartesian_speed"),
+        )
+        p.declare("cartesian_speed_limited_link", "", "link whose Cartesian speed is limited")
+        p.declare(
+            "time_parameterization", TimeOptimalTrajectoryGeneration(), "time parameterization algorithm",
+            type=TimeParameterization,
+        )
+
+    # ------------------------------------------------------------------ properties
+    @property
+    def properties(self) -> PropertyMap:
+        """The planner's properties (read-only attribute; the map itself is mutable)."""
+        return self._properties
+
+    def _property_map(self) -> PropertyMap:
+        return self._properties
+
+    def setProperty(self, name: str, value) -> None:
+        """Set a property (declaring it if it is new)."""
+        self._properties.set(name, value)
+
+    def setTimeout(self, timeout: float) -> None:
+        self._properties.set("timeout", timeout)
+
+    def setMaxVelocityScalingFactor(self, factor: float) -> None:
+        self._properties.set("max_velocity_scaling_factor", factor)
+
+    def setMaxAccelerationScalingFactor(self, factor: float) -> None:
+        self._properties.set("max_acceleration_scaling_factor", factor)
+
+    def setMaxCartesianSpeed(self, speed: float) -> None:
+        self._properties.set("max_cartesian_speed", speed)
+
+    def setCartesianSpeedLimitedLink(self, link: str) -> None:
+        self._properties.set("cartesian_speed_limited_link", link)
+
+    def setTimeParameterization(self, time_parameterization: TimeParameterization | None) -> None:
+        self._properties.set("time_parameterization", time_parameterization)
+
+    # ------------------------------------------------------------------ planning
+    def init(self, robot_model: RobotModel) -> None:
+        """Prepare for planning with ``robot_model`` (called by the stage's ``init``)."""
+        if not isinstance(robot_model, RobotModel):
+            raise TypeError(f"init() needs a RobotModel, not {type(robot_model).__name__}")
+        self._robot_model = robot_model
+
+    @abstractmethod
+    def plan(
+        self,
+        from_scene: PlanningScene,
+        to_scene: PlanningScene,
+        group: str,
+        timeout: float,
+        path_constraints: msgs.Constraints | None = None,
+    ) -> tuple[PlannerResult, RobotTrajectory | None]:
+        """Plan from ``from_scene``'s robot state to ``to_scene``'s for ``group``.
+
+        Returns:
+            The result and the trajectory (possibly partial on failure, or None).
+        """
+
+    @abstractmethod
+    def plan_to_pose(
+        self,
+        from_scene: PlanningScene,
+        link: str,
+        offset: np.ndarray,
+        target: np.ndarray,
+        group: str,
+        timeout: float,
+        path_constraints: msgs.Constraints | None = None,
+    ) -> tuple[PlannerResult, RobotTrajectory | None]:
+        """Plan so that ``pose(link) · offset == target`` (4x4, planning frame) at the end.
+
+        Returns:
+            The result and the trajectory (possibly partial on failure, or None).
+        """
+
+    # ------------------------------------------------------------------ helpers for planners
+    def _effective_timeout(self, timeout: float) -> float:
+        """``min(timeout, property timeout)`` as MTC's planners use it."""
+        return min(float(timeout), float(self._properties.get("timeout")))
+
+    def _group(self, scene: PlanningScene, group) -> JointModelGroup:
+        return scene.robot_model.get_joint_model_group(group)
+
+    def _apply_timing(self, trajectory: RobotTrajectory) -> None:
+        """Time a trajectory with the planner's scaling factors, or, when a Cartesian speed
+        limit is set, time-optimally under both joint limits and that limit."""
+        props = self._properties
+        vs = props.get("max_velocity_scaling_factor")
+        acs = props.get("max_acceleration_scaling_factor")
+        speed = props.get("max_cartesian_speed")
+        if speed > 0:
+            link = props.get("cartesian_speed_limited_link")
+            if not link:
+                raise ValueError("max_cartesian_speed is set but cartesian_speed_limited_link is empty")
+            limit_cartesian_speed(trajectory, speed, link, vs, acs)
+            return
+        timing = props.get("time_parameterization", None)
+        if timing is not None and len(trajectory) > 0:
+            timing.computeTimeStamps(trajectory, vs, acs)
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}()"
+

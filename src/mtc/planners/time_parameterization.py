@@ -1,0 +1,431 @@
+"""Time parameterization: times, velocities and accelerations for a geometric path.
+
+:class:`TimeOptimalTrajectoryGeneration` (the name of MoveIt's TOTG, MTC's default
+``time_parameterization``) assigns times to the waypoints of a :class:`RobotTrajectory` so that
+the path is traversed as fast as the joint velocity and acceleration limits allow, scaled by
+``max_velocity_scaling_factor`` and ``max_acceleration_scaling_factor``. The waypoints are kept
+(MoveIt's TOTG resamples them; MTC's planners and cost terms only need the times).
+
+How: the waypoints are joined by a natural cubic spline ``q(s)`` in the joint-space arc
+length ``s``, so the path has a continuous tangent ``q'(s)`` and curvature ``q''(s)``. Along the
+path, ``q̇ = q' ṡ`` and ``q̈ = q' s̈ + q'' ṡ²``, so with ``x = ṡ²`` and ``u = s̈`` every joint
+limit is linear in ``(u, x)``. On a grid in ``s`` that contains every waypoint, a backward
+pass computes the largest ``x`` from which the path can still end at rest (the controllable
+set) and a forward pass then takes the largest admissible ``u`` at each grid point (the
+reachability analysis of TOPP-RA, Pham & Pham 2018, with constraints evaluated at the start
+of each grid interval). The result is time-optimal on the grid and, by construction, every
+reported velocity and acceleration lies within the scaled limits.
+
+A Cartesian speed limit on a link (MTC's ``max_cartesian_speed`` for
+``cartesian_speed_limited_link``) is one more velocity constraint ``‖p'(s)‖ ṡ ≤ v_max`` on
+the spline of the link's positions.
+
+Ruckig (the only ruckig user in ``mtc`` is this module) does state-to-state motions: it
+cannot follow a given path, so it serves :func:`synchronized_ptp` (Pilz's PTP: all joints
+start and stop together on the straight joint-space line) and :func:`trapezoid_profile`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from abc import ABC, abstractmethod
+
+import numpy as np
+import ruckig
+
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+log = logging.getLogger(__name__)
+
+__all__ = [
+    "TimeParameterization",
+    "TimeOptimalTrajectoryGeneration",
+    "time_parameterize",
+    "limit_cartesian_speed",
+    "synchronized_ptp",
+    "trapezoid_profile",
+    "check_scaling_factor",
+]
+
+_EPS_TANGENT = 1e-9  # a joint whose path tangent is smaller than this does not limit ṡ
+_DENSE_SPLINE = 200  # up to this many waypoints the spline system is solved densely
+
+
+def check_scaling_factor(name: str, value: float) -> float:
+    """Validate a velocity/acceleration scaling factor.
+
+    Raises:
+        ValueError: not a number in (0, 1].
+    """
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number in (0, 1], got {value!r}") from None
+    if not (0.0 < v <= 1.0):
+        raise ValueError(f"{name} must be in (0, 1], got {value!r}")
+    return v
+
+
+class TimeParameterization(ABC):
+    """A way to time a geometric trajectory (MoveIt's ``TimeParameterization``)."""
+
+    @abstractmethod
+    def computeTimeStamps(
+        self,
+        trajectory: RobotTrajectory,
+        max_velocity_scaling_factor: float = 1.0,
+        max_acceleration_scaling_factor: float = 1.0,
+    ) -> bool:
+        """Set the trajectory's times, velocities and accelerations in place.
+
+        Returns:
+            Whether the trajectory could be timed.
+        """
+
+
+class TimeOptimalTrajectoryGeneration(TimeParameterization):
+    """Time-optimal timing along the path under joint velocity and acceleration limits.
+
+    Args:
+        grid_points: minimum number of grid intervals along the path (more: closer to the
+            continuous optimum, slower). Every waypoint is a grid point.
+    """
+
+    def __init__(self, grid_points: int = 100):
+        if int(grid_points) < 1:
+            raise ValueError(f"grid_points must be at least 1, got {grid_points}")
+        self.grid_points = int(grid_points)
+
+    def computeTimeStamps(
+        self,
+        trajectory: RobotTrajectory,
+        max_velocity_scaling_factor: float = 1.0,
+        max_acceleration_scaling_factor: float = 1.0,
+    ) -> bool:
+        time_parameterize(
+            trajectory, max_velocity_scaling_factor, max_acceleration_scaling_factor, grid_points=self.grid_points
+        )
+        return True
+
+    def __repr__(self) -> str:
+        return f"TimeOptimalTrajectoryGeneration(grid_points={self.grid_points})"
+
+
+# ---------------------------------------------------------------------------------------------
+# natural cubic spline through the waypoints, parameterized by arc length
+
+
+def _spline_second_derivatives(s: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    """Second derivatives at the knots of the natural cubic spline through ``(s, Y)`` (columns
+    of Y are independent curves)."""
+    n = len(s)
+    Mk = np.zeros_like(Y)
+    if n < 3:
+        return Mk
+    h = np.diff(s)
+    slopes = np.diff(Y, axis=0) / h[:, None]
+    rhs = 6.0 * (slopes[1:] - slopes[:-1])  # (n-2) x k
+    diag = 2.0 * (h[:-1] + h[1:])
+    off = h[1:-1]
+    if n <= _DENSE_SPLINE:
+        A = np.diag(diag)
+        if n > 3:
+            A += np.diag(off, 1) + np.diag(off, -1)
+        Mk[1:-1] = np.linalg.solve(A, rhs)
+        return Mk
+    # Thomas algorithm for long paths (the system is tridiagonal and diagonally dominant)
+    m = n - 2
+    c = np.zeros(m)
+    d = np.zeros_like(rhs)
+    c[0] = off[0] / diag[0] if m > 1 else 0.0
+    d[0] = rhs[0] / diag[0]
+    for i in range(1, m):
+        denom = diag[i] - off[i - 1] * c[i - 1]
+        if i < m - 1:
+            c[i] = off[i] / denom
+        d[i] = (rhs[i] - off[i - 1] * d[i - 1]) / denom
+    x = np.zeros_like(rhs)
+    x[-1] = d[-1]
+    for i in range(m - 2, -1, -1):
+        x[i] = d[i] - c[i] * x[i + 1]
+    Mk[1:-1] = x
+    return Mk
+
+
+def _spline_derivatives(s, Y, Mk, seg, t):
+    """First and second derivatives of the spline at points ``t`` lying in segments ``seg``."""
+    h = (s[seg + 1] - s[seg])[:, None]
+    a = (s[seg + 1][:, None] - t[:, None]) / h
+    b = 1.0 - a
+    M0, M1 = Mk[seg], Mk[seg + 1]
+    d1 = (Y[seg + 1] - Y[seg]) / h - (3 * a * a - 1) / 6 * h * M0 + (3 * b * b - 1) / 6 * h * M1
+    d2 = a * M0 + b * M1
+    return d1, d2
+
+
+# ---------------------------------------------------------------------------------------------
+# the phase-plane passes
+
+
+def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0):
+    """Times, velocities and accelerations for the path through the rows of ``Q``.
+
+    Args:
+        Q: N x k waypoints (continuous joints already unwrapped).
+        vmax, amax: k scaled limits.
+        grid_points: minimum number of grid intervals.
+        P: optional N x 3 positions of a link whose speed is limited to ``vcart``.
+    """
+    N, k = Q.shape
+    times = np.zeros(N)
+    V = np.zeros((N, k))
+    A = np.zeros((N, k))
+    if N < 2:
+        return times, V, A
+    seg_len = np.sqrt((np.diff(Q, axis=0) ** 2).sum(axis=1))
+    moving = seg_len > 1e-12
+    # waypoints repeated without motion share the time of their predecessor
+    keep = np.concatenate(([True], moving))
+    knot_of = np.cumsum(keep) - 1  # waypoint -> knot
+    Qk = Q[keep]
+    n = len(Qk)
+    if n < 2:
+        return times, V, A
+    s = np.concatenate(([0.0], np.cumsum(seg_len[moving])))
+    L = s[-1]
+    Y = Qk if P is None else np.hstack((Qk, P[keep]))
+    Mk = _spline_second_derivatives(s, Y)
+
+    # grid: each knot interval split into equal parts, about grid_points parts in total
+    h = np.diff(s)
+    parts = np.maximum(1, np.ceil(h * (grid_points / L) - 1e-9)).astype(int)
+    seg = np.repeat(np.arange(n - 1), parts)
+    frac = np.concatenate([np.arange(p) / p for p in parts])
+    grid = np.concatenate((s[seg] + frac * h[seg], [L]))
+    seg = np.concatenate((seg, [n - 2]))
+    knot_index = np.concatenate(([0], np.cumsum(parts)))
+    d1, d2 = _spline_derivatives(s, Y, Mk, seg, grid)
+    qp, qpp = d1[:, :k], d2[:, :k]
+    G = len(grid)
+
+    # constraints per grid point: velocity bound on x, and u in [max(-c + b x), min(c + b x)]
+    aq = np.abs(qp)
+    active = aq > _EPS_TANGENT
+    safe = np.where(active, aq, 1.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xmax = np.min(np.where(active, (vmax / safe) ** 2, np.inf), axis=1)
+        c = np.where(active, amax / safe, np.inf)
+        beta = np.where(active, -qpp / np.where(active, qp, 1.0), 0.0)
+        # joints that do not move along the tangent: |q''| x <= a
+        curv = np.abs(qpp)
+        xmax = np.minimum(xmax, np.min(np.where(~active & (curv > 1e-12), amax / np.where(curv > 0, curv, 1.0), np.inf), axis=1))
+        # the u-interval is empty above min over pairs with beta_i > beta_j of (c_i + c_j) / (beta_i - beta_j)
+        db = beta[:, :, None] - beta[:, None, :]
+        cc = c[:, :, None] + c[:, None, :]
+        pair = np.where(db > 0, cc / np.where(db > 0, db, 1.0), np.inf)
+        xmax = np.minimum(xmax, pair.reshape(G, -1).min(axis=1))
+        if P is not None:
+            pp = d1[:, k:]
+            speed2 = (pp**2).sum(axis=1)
+            xmax = np.minimum(xmax, np.where(speed2 > 1e-18, vcart * vcart / np.where(speed2 > 0, speed2, 1.0), np.inf))
+    if not np.all(np.isfinite(xmax)):
+        # a point where nothing limits the speed (the path does not move any joint): cannot be
+        xmax = np.where(np.isfinite(xmax), xmax, 0.0)
+
+    ds = np.diff(grid).tolist()
+    c_rows = np.where(np.isfinite(c), c, 1e300).tolist()
+    b_rows = beta.tolist()
+    xm = xmax.tolist()
+
+    # backward pass: largest x at each grid point from which the end (at rest) is reachable
+    xb = [0.0] * G
+    for i in range(G - 2, -1, -1):
+        two_d = 2.0 * ds[i]
+        bound = xm[i]
+        nxt = xb[i + 1]
+        for ci, bi in zip(c_rows[i], b_rows[i]):
+            slope = 1.0 + two_d * bi
+            if slope > 0.0:
+                v = (nxt + two_d * ci) / slope
+                if v < bound:
+                    bound = v
+        xb[i] = bound if bound > 0.0 else 0.0
+
+    # forward pass: from rest, the largest admissible acceleration that stays controllable
+    x = [0.0] * G
+    u = [0.0] * G
+    for i in range(G - 1):
+        two_d = 2.0 * ds[i]
+        xi = x[i]
+        umax = (xb[i + 1] - xi) / two_d
+        umin = -math.inf
+        for ci, bi in zip(c_rows[i], b_rows[i]):
+            hi = ci + bi * xi
+            lo = -ci + bi * xi
+            if hi < umax:
+                umax = hi
+            if lo > umin:
+                umin = lo
+        ui = umax if umax > umin else umin  # umin <= umax holds up to rounding
+        u[i] = ui
+        xn = xi + two_d * ui
+        x[i + 1] = min(max(xn, 0.0), xb[i + 1])
+    # at the end (x = 0) keep the last deceleration, clamped into the last point's limits
+    cl = min(c_rows[-1]) if c_rows[-1] else 0.0
+    u[-1] = min(max(u[-2], -cl), cl)
+
+    xa = np.array(x)
+    ua = np.array(u)
+    sq = np.sqrt(xa)
+    denom = sq[:-1] + sq[1:]
+    dt = np.where(denom > 0, 2.0 * np.diff(grid) / np.where(denom > 0, denom, 1.0), 0.0)
+    tgrid = np.concatenate(([0.0], np.cumsum(dt)))
+    vel = qp * sq[:, None]
+    acc = qp * ua[:, None] + qpp * xa[:, None]
+    rows = knot_index[knot_of]
+    return tgrid[rows], vel[rows], acc[rows]
+
+
+def _unwrapped_positions(trajectory: RobotTrajectory) -> np.ndarray:
+    Q = trajectory.positions.astype(float)
+    model = trajectory.robot_model
+    cont = model.continuous_mask[trajectory.group.variable_indices]
+    if cont.any() and len(Q) > 1:
+        d = np.diff(Q[:, cont], axis=0)
+        d = (d + np.pi) % (2 * np.pi) - np.pi
+        Q[1:, cont] = Q[0, cont] + np.cumsum(d, axis=0)
+    return Q
+
+
+def time_parameterize(
+    trajectory: RobotTrajectory,
+    max_velocity_scaling_factor: float = 1.0,
+    max_acceleration_scaling_factor: float = 1.0,
+    max_cartesian_speed: float = 0.0,
+    cartesian_speed_limited_link: str = "",
+    grid_points: int = 100,
+) -> RobotTrajectory:
+    """Time a trajectory time-optimally along its path (in place), starting and ending at rest.
+
+    Args:
+        trajectory: the waypoints to time; their positions are kept.
+        max_velocity_scaling_factor: fraction (0, 1] of the model's velocity limits.
+        max_acceleration_scaling_factor: fraction (0, 1] of the acceleration limits.
+        max_cartesian_speed: if > 0, the speed limit [m/s] of ``cartesian_speed_limited_link``.
+        cartesian_speed_limited_link: a link (or attached frame) of the waypoints.
+        grid_points: minimum number of grid intervals along the path.
+
+    Returns:
+        The trajectory, with times, velocities and accelerations set.
+
+    Raises:
+        ValueError: a scaling factor outside (0, 1], a negative Cartesian speed, or a Cartesian
+            speed limit without a link.
+        KeyError: unknown link.
+    """
+    vs = check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
+    acs = check_scaling_factor("max_acceleration_scaling_factor", max_acceleration_scaling_factor)
+    if max_cartesian_speed < 0:
+        raise ValueError(f"max_cartesian_speed must not be negative, got {max_cartesian_speed}")
+    model = trajectory.robot_model
+    idx = trajectory.group.variable_indices
+    vmax = model.velocity_limits[idx] * vs
+    amax = model.acceleration_limits[idx] * acs
+    Q = _unwrapped_positions(trajectory)
+    P = None
+    if max_cartesian_speed > 0:
+        if not cartesian_speed_limited_link:
+            raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
+        P = np.array([w.get_frame_transform(cartesian_speed_limited_link)[:3, 3] for w in trajectory.waypoints])
+    times, V, A = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed))
+    trajectory.times = times
+    trajectory.velocities = V
+    trajectory.accelerations = A
+    return trajectory
+
+
+def limit_cartesian_speed(
+    trajectory: RobotTrajectory,
+    max_speed: float,
+    link: str,
+    max_velocity_scaling_factor: float = 1.0,
+    max_acceleration_scaling_factor: float = 1.0,
+) -> RobotTrajectory:
+    """Re-time a trajectory so that ``link`` moves no faster than ``max_speed`` [m/s] (MoveIt's
+    ``limitMaxCartesianLinkSpeed``), still within the (scaled) joint limits.
+
+    Raises:
+        ValueError: ``max_speed`` is not positive or ``link`` is empty.
+        KeyError: unknown link.
+    """
+    if not max_speed > 0:
+        raise ValueError(f"max_speed must be positive, got {max_speed}")
+    return time_parameterize(
+        trajectory, max_velocity_scaling_factor, max_acceleration_scaling_factor, max_speed, link
+    )
+
+
+# ---------------------------------------------------------------------------------------------
+# ruckig: synchronized point-to-point motions
+
+
+def synchronized_ptp(
+    start: np.ndarray, goal: np.ndarray, vmax: np.ndarray, amax: np.ndarray, dmax: np.ndarray | None = None
+):
+    """A time-optimal rest-to-rest motion on the straight line from ``start`` to ``goal`` with
+    trapezoidal velocity profiles that all joints share (phase-synchronized, as Pilz's PTP).
+
+    Args:
+        start, goal: positions.
+        vmax, amax: velocity and acceleration limits (positive).
+        dmax: deceleration limits (positive; default ``amax``). Ruckig's ``min_acceleration``
+            is ``-dmax``, which is the braking side for motions in the positive direction.
+
+    Returns:
+        ``(duration, sample)`` where ``sample(t) -> (positions, velocities, accelerations)``.
+    """
+    start = np.asarray(start, dtype=float)
+    goal = np.asarray(goal, dtype=float)
+    n = len(start)
+    if n == 0 or np.allclose(start, goal, atol=1e-12, rtol=0):
+        return 0.0, lambda t: (goal.copy(), np.zeros(n), np.zeros(n))
+    otg = ruckig.Ruckig(n)
+    inp = ruckig.InputParameter(n)
+    inp.current_position = start.tolist()
+    inp.target_position = goal.tolist()
+    inp.max_velocity = np.asarray(vmax, dtype=float).tolist()
+    inp.max_acceleration = np.asarray(amax, dtype=float).tolist()
+    if dmax is not None:
+        inp.min_acceleration = (-np.asarray(dmax, dtype=float)).tolist()
+    inp.max_jerk = [math.inf] * n  # infinite jerk: trapezoidal velocity profiles
+    inp.synchronization = ruckig.Synchronization.Phase
+    traj = ruckig.Trajectory(n)
+    result = otg.calculate(inp, traj)
+    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
+        raise RuntimeError(f"ruckig could not compute the PTP motion: {result}")
+
+    def sample(t: float):
+        p, v, a = traj.at_time(min(max(float(t), 0.0), traj.duration))
+        return np.array(p), np.array(v), np.array(a)
+
+    return float(traj.duration), sample
+
+
+def trapezoid_profile(length: float, vmax: float, amax: float, dmax: float | None = None):
+    """Rest-to-rest motion over ``length`` (> 0) with a trapezoidal speed profile: accelerate
+    with ``amax``, cruise at ``vmax``, brake with ``dmax`` (default ``amax``).
+
+    Returns:
+        ``(duration, sample)`` with ``sample(t) -> (s, ṡ, s̈)``.
+    """
+    duration, sample = synchronized_ptp(
+        np.zeros(1), np.array([float(length)]), np.array([vmax]), np.array([amax]),
+        None if dmax is None else np.array([dmax]),
+    )
+
+    def scalar(t: float):
+        p, v, a = sample(t)
+        return float(p[0]), float(v[0]), float(a[0])
+
+    return duration, scalar
