@@ -46,6 +46,52 @@ def default_package_dirs() -> list[str]:
     return dirs
 
 
+def _numbers(elem: ET.Element, attr: str, count: int, context: str) -> list[float] | None:
+    """The ``count`` numbers of attribute ``attr`` of ``elem`` (None if absent), or a
+    DescriptionError naming ``context``, the element and the bad text."""
+    raw = elem.get(attr)
+    if raw is None:
+        return None
+    try:
+        values = [float(v) for v in raw.split()]
+    except ValueError:
+        values = []
+    if len(values) != count or not all(np.isfinite(values)):
+        what = "a number" if count == 1 else f"{count} numbers"
+        raise DescriptionError(f"{context}: <{elem.tag}> {attr}='{raw}' is not {what}")
+    return values
+
+
+def _check_urdf_numbers(root: ET.Element, label: str) -> None:
+    """Check every numeric attribute Pinocchio will read, so its parser only sees numbers
+    (its own errors do not say where the problem is)."""
+    shape_attrs = {"box": [("size", 3)], "sphere": [("radius", 1)], "cylinder": [("radius", 1), ("length", 1)],
+                   "mesh": [("scale", 3)]}
+    for link in root.findall("link"):
+        context = f"{label}: link '{link.get('name')}'"
+        for part in (*link.findall("visual"), *link.findall("collision")):
+            for origin in part.findall("origin"):
+                _numbers(origin, "xyz", 3, context)
+                _numbers(origin, "rpy", 3, context)
+            for geometry in part.findall("geometry"):
+                for shape in geometry:
+                    for attr, count in shape_attrs.get(shape.tag, []):
+                        _numbers(shape, attr, count, context)
+    for joint in root.findall("joint"):
+        context = f"{label}: joint '{joint.get('name')}'"
+        for origin in joint.findall("origin"):
+            _numbers(origin, "xyz", 3, context)
+            _numbers(origin, "rpy", 3, context)
+        for axis in joint.findall("axis"):
+            _numbers(axis, "xyz", 3, context)
+        for limit in joint.findall("limit"):
+            for attr in ("lower", "upper", "velocity", "effort"):
+                _numbers(limit, attr, 1, context)
+        for mimic in joint.findall("mimic"):
+            for attr in ("multiplier", "offset"):
+                _numbers(mimic, attr, 1, context)
+
+
 @dataclass
 class _UrdfJoint:
     name: str
@@ -151,6 +197,7 @@ class RobotModel:
     # ------------------------------------------------------------------ URDF
     def _parse_urdf(self, text: str, label: str) -> None:
         root = parse_xml(text, label)
+        _check_urdf_numbers(root, label)
         self.name = root.get("name", "")
         self._links: list[str] = []
         self._link_has_geometry: dict[str, bool] = {}
