@@ -125,3 +125,20 @@ def test_panda_scene_acm_holds_the_srdf_pairs(panda):
     for i, a in enumerate(links):
         for b in links[i + 1 :]:
             assert acm.get_entry(a, b) == (frozenset((a, b)) in disabled), (a, b)
+
+
+def test_token_tells_equal_content():
+    """Copies share the token until either changes; every edit renews it; reads do not."""
+    acm = AllowedCollisionMatrix([("a", "b")])
+    other = acm.copy()
+    assert other.token is acm.token
+    acm.get_entry("a", "b")
+    assert other.token is acm.token
+    token = acm.token
+    other.set_entry("a", "c", True)
+    assert other.token is not token and acm.token is token
+    acm.set_default_entry("z", False)
+    assert acm.token is not token
+    token = acm.token
+    acm.remove_entry("a", "b")
+    assert acm.token is not token

@@ -481,6 +481,54 @@ def test_attach_link_is_always_a_touch_link(scene):
     assert scene.get_collisions() == [("panda_rightfinger", "obj")]
 
 
+def test_attached_object_collides_with_links_that_are_not_touch_links(scene):
+    """An attached object still collides with robot links other than its link and touch links."""
+    link3 = translation(scene.current_state.get_global_link_transform("panda_link3"))
+    scene.apply_collision_object(box("b", tuple(link3), (0.04, 0.04, 0.04)))
+    assert scene.get_collisions() == [("panda_link3", "b"), ("panda_link4", "b")]
+    scene.attach_object("b", "panda_hand")
+    assert scene.get_collisions() == [("panda_link3", "b"), ("panda_link4", "b")]
+    assert scene.is_state_colliding(group="hand")  # the object moves with the hand
+    scene.detach_object("b")
+    scene.attach_object("b", "panda_hand", touch_links=["panda_link3", "panda_link4"])
+    assert scene.get_collisions() == []
+
+
+def test_attached_objects_collide_with_each_other(scene):
+    """Two attached objects that overlap collide, unless the ACM allows the pair."""
+    scene.apply_collision_object(box("c", (0.307, 0.0, 0.45)))
+    scene.apply_collision_object(box("d", (0.307, 0.0, 0.45)))
+    scene.attach_object("c", "panda_link0")
+    scene.attach_object("d", "panda_hand_tcp")  # a frame without geometry of its own
+    assert scene.get_collisions() == [("c", "d")]
+    assert scene.is_state_colliding(group="hand")
+    np.testing.assert_allclose(translation(scene.get_frame_transform("d")), [0.307, 0.0, 0.45], atol=1e-12)
+    scene.current_state.joint_positions = {"panda_joint1": 0.5}  # d moves with the arm, c stays
+    assert not scene.is_state_colliding()
+    np.testing.assert_allclose(translation(scene.get_frame_transform("c")), [0.307, 0.0, 0.45], atol=1e-12)
+    scene.current_state.joint_positions = {"panda_joint1": 0.0}
+    scene.allowed_collision_matrix.set_entry("c", "d", True)
+    assert not scene.is_state_colliding()
+
+
+def test_frames_of_attached_objects_follow_each_scene(scene):
+    """After diff(), each scene's state sees its own attached objects' frames."""
+    held_scene(scene)
+    scene.attach_object("obj", "panda_hand")
+    child = scene.diff()
+    child.detach_object("obj")
+    assert scene.current_state.knows_frame_transform("obj")
+    assert not child.current_state.knows_frame_transform("obj")
+    assert child.knows_frame_transform("obj")  # a world object of the child now
+    child.attach_object("obj", "panda_link8")
+    child.current_state.joint_positions = {"panda_joint7": 0.0}
+    link8 = child.current_state.get_global_link_transform("panda_link8")
+    np.testing.assert_allclose(child.current_state.get_frame_transform("obj"), link8 @ child.get_attached_object("obj").object.pose)
+    assert scene.get_attached_object("obj").link == "panda_hand"
+    hand = scene.current_state.get_global_link_transform("panda_hand")
+    np.testing.assert_allclose(scene.current_state.get_frame_transform("obj"), hand @ scene.get_attached_object("obj").object.pose)
+
+
 def test_attached_collision_object_messages(scene):
     """AttachedCollisionObject ADD attaches a new object given in the link frame; REMOVE detaches."""
     o = box("tool", (0.0, 0.0, 0.05), (0.02, 0.02, 0.02), frame="panda_hand_tcp")
@@ -611,6 +659,22 @@ def test_siblings_are_independent(scene):
     grandchild = b.diff()
     _edit(grandchild)
     assert snapshot(b) == before and grandchild.parent is b
+
+
+def test_diff_shares_the_collision_setup_until_an_edit(scene):
+    """A diff reuses its parent's collision set-up (cheap diffs); an edit of either makes its own."""
+    _populate(scene)
+    env = scene._collision_env()
+    child = scene.diff()
+    assert child._collision_env() is env
+    child.current_state.joint_positions = {"panda_joint1": 0.3}  # the state is not part of the set-up
+    assert child._collision_env() is env
+    child.allowed_collision_matrix.set_entry("obj", "far", True)
+    assert child._collision_env() is not env
+    assert scene._collision_env() is env
+    other = scene.diff()
+    scene.apply_collision_object(box("extra", (2.0, 0.0, 0.0)))
+    assert scene._collision_env() is not env and other._collision_env() is env
 
 
 def test_acm_held_across_diff_does_not_leak(scene):
