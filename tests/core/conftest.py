@@ -17,3 +17,9 @@ import mockups  # noqa: E402
 def t():
     """A task on the toy robot without introspection, mockup ids reset (MTC's TaskTestBase)."""
     return mockups.make_task()
+
+
+@pytest.fixture(autouse=True)
+def _reset_mockup_ids():
+    """Every test names its mockups from 1 (GEN1, CON1, ...)."""
+    mockups.resetMockupIds()

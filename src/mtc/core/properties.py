@@ -196,9 +196,11 @@ class Property:
         "_source_flags",
         "_initialized_from",
         "_convert",
+        "_name",
     )
 
     def __init__(self, type=None, description: str = "", default=None, convert=None):
+        self._name = ""
         self._type = _normalize_type(type)
         self._description = description
         self._convert = convert
@@ -228,6 +230,7 @@ class Property:
         p._source_flags = self._source_flags
         p._initialized_from = self._initialized_from
         p._convert = self._convert
+        p._name = self._name
         return p
 
     # --- MTC API ----------------------------------------------------------------------
@@ -294,13 +297,13 @@ class Property:
         """Whether the property is configured to initialize from ``source``."""
         return bool(self._source_flags & int(source))
 
-    def configureInitFrom(self, source: int, initializer: str | Callable[["PropertyMap"], Any]) -> "Property":
+    def configureInitFrom(self, source: int, initializer: str | Callable[["PropertyMap"], Any] | None = None) -> "Property":
         """Configure initialization from ``source`` (PARENT, INTERFACE or both OR-ed).
 
         Args:
             source: Source flags.
-            initializer: Name of the property to read from the other map, or a function
-                ``f(other_map) -> value``.
+            initializer: Name of the property to read from the other map (default: this
+                property's own name in its map), or a function ``f(other_map) -> value``.
 
         Raises:
             PropertyError: Already configured for another source.
@@ -308,6 +311,10 @@ class Property:
         source = int(source)
         if self._initializer is not None and self._source_flags != source:
             raise PropertyError("Property was already configured for initialization from another source id")
+        if initializer is None:
+            if not self._name:
+                raise TypeError("configureInitFrom() needs the name of the property to read from")
+            initializer = self._name
         if isinstance(initializer, str):
             other_name = initializer
             self._initializer = lambda other: other._raw(other_name)
@@ -359,6 +366,7 @@ class PropertyMap:
                 raise PropertyTypeError(_type_name(type), _type_name(existing._type), name)
             return existing
         p = Property(type, description, None, convert)
+        p._name = name
         try:
             p._default = p._check(default)
         except PropertyError as e:

@@ -1,0 +1,369 @@
+"""Property and PropertyMap (mtc_semantics.md §4), ported from MTC's test_properties.cpp and test_mtc.py."""
+
+from __future__ import annotations
+
+import pytest
+from mockups import ForwardMockup, GeneratorMockup, add
+
+from mtc import core
+from mtc.core import Property, PropertyError, PropertyMap
+from mtc.core.properties import PropertyTypeError, UndeclaredPropertyError, UndefinedPropertyError, unsigned_int
+
+PARENT = core.Stage.PropertyInitializerSource.PARENT
+INTERFACE = core.Stage.PropertyInitializerSource.INTERFACE
+
+
+def test_standard():
+    props = PropertyMap()
+    props.declare("double1", 1.0, "first")
+    props.declare("double2", 2, type=float)
+    props.declare("double4", type=float)
+    assert props.get("double1") == 1.0
+    assert props.get("double2") == 2.0 and isinstance(props.get("double2"), float)
+    with pytest.raises(UndeclaredPropertyError):
+        props.get("double3")
+    with pytest.raises(UndefinedPropertyError):
+        props.get("double4")
+    assert not props.property("double4").defined()
+    assert props.get("double4", 0.0) == 0.0
+    props.set("double3", 3.0)
+    assert props.get("double3") == 3.0
+
+
+def test_error_types_and_texts():
+    props = PropertyMap()
+    props.declare("d", type=float)
+    with pytest.raises(UndeclaredPropertyError) as e:
+        props.get("x")
+    assert str(e.value) == "Property 'x': undeclared"
+    assert isinstance(e.value, KeyError) and isinstance(e.value, RuntimeError)
+    with pytest.raises(UndefinedPropertyError) as e:
+        props.get("d")
+    assert str(e.value) == "Property 'd': undefined"
+    with pytest.raises(PropertyTypeError) as e:
+        props.set("d", "text")
+    assert str(e.value) == "Property 'd': type str doesn't match property's declared type float"
+    assert isinstance(e.value, TypeError) and isinstance(e.value, PropertyError)
+    with pytest.raises(UndeclaredPropertyError, match="trying to set undeclared property 'y' with NULL value"):
+        props.set("y", None)
+
+
+def test_directset():
+    props = PropertyMap()
+    props.set("int1", 1)
+    assert props.get("int1") == 1
+    assert props.property("int1").serialize() == "1"
+
+
+def test_redeclare():
+    props = PropertyMap()
+    props.declare("double1", type=float)
+    props.declare("double1", type=float)  # same type: fine
+    with pytest.raises(PropertyTypeError):
+        props.declare("double1", type=str)
+    # ints are accepted for float properties (MTC Appendix A #12), text is not
+    props.set("double1", 1)
+    assert props.get("double1") == 1.0
+    with pytest.raises(PropertyTypeError):
+        props.set("double1", "1")
+    props.set("double1", 3.14)
+    assert props.get("double1") == 3.14
+
+
+def test_bool_is_not_a_number():
+    props = PropertyMap()
+    props.declare("n", type=int)
+    props.declare("b", type=bool)
+    with pytest.raises(TypeError):
+        props.set("n", True)
+    with pytest.raises(TypeError):
+        props.set("b", 1)
+    props.set("b", False)
+    assert props["b"] is False
+
+
+def test_reset():
+    props = PropertyMap()
+    props.declare("double1", type=float)
+    # setCurrent() only assigns temporary values
+    props.setCurrent("double1", 1.0)
+    assert props.get("double1") == 1.0
+    assert props.property("double1").defaultValue() is None
+    props.reset()
+    assert not props.property("double1").defined()
+    # set() also updates the default
+    props.set("double1", 1.0)
+    assert props.property("double1").defaultValue() == 1.0
+    props.setCurrent("double1", 2.0)
+    assert props.get("double1") == 2.0
+    assert props.property("double1").defaultValue() == 1.0
+    props.reset()
+    assert props.get("double1") == 1.0
+
+
+def test_anytype():
+    props = PropertyMap()
+    props.declare("any", description="store any type")
+    props.set("any", 1)
+    assert props.get("any") == 1
+    props.set("any", "foo")
+    assert props.get("any") == "foo"
+
+
+def test_serialize():
+    props = PropertyMap()
+    props.declare("int", type=int)
+    assert props.property("int").serialize() == ""
+    props.set("int", 42)
+    assert props.property("int").serialize() == "42"
+
+
+def test_unsigned():
+    props = PropertyMap()
+    props.declare("n", 1, type=unsigned_int)
+    props.set("n", 3)
+    with pytest.raises(TypeError, match="unsigned int"):
+        props.set("n", -1)
+
+
+@pytest.fixture
+def master_slave():
+    master = PropertyMap()
+    master.declare("double1", 1.0)
+    master.declare("double2", 2.0)
+    master.declare("double4", 4.0)
+    slave = PropertyMap()
+    slave.declare("double1", type=float)
+    slave.declare("double2", type=float)
+    slave.declare("double3", type=float)
+    return master, slave
+
+
+def test_init_from_standard(master_slave):
+    master, slave = master_slave
+    slave.configureInitFrom(PARENT)  # init all matching vars
+    assert not slave.property("double1").defined()
+    slave.performInitFrom(PARENT, master)
+    assert slave.get("double1") == 1.0
+    assert slave.get("double2") == 2.0
+    assert not slave.property("double3").defined()
+    with pytest.raises(UndeclaredPropertyError):
+        slave.property("double4")
+
+
+def test_init_from_limited(master_slave):
+    master, slave = master_slave
+    slave.configureInitFrom(PARENT, ["double1"])  # limit init to listed props
+    slave.performInitFrom(PARENT, master)
+    assert slave.get("double1") == 1.0
+    assert not slave.property("double2").defined()
+
+
+def test_init_from_single_name_is_one_name(master_slave):
+    """A str is one property name, not a list of characters (Appendix A #6)."""
+    master, slave = master_slave
+    slave.configureInitFrom(PARENT, "double2")
+    slave.performInitFrom(PARENT, master)
+    assert not slave.property("double1").defined()
+    assert slave.get("double2") == 2.0
+
+
+def test_init_from_source_id(master_slave):
+    master, slave = master_slave
+    slave.configureInitFrom(PARENT)
+    slave.performInitFrom(INTERFACE, master)  # wrong source: no effect
+    assert not slave.property("double1").defined()
+
+
+def test_init_from_multiple_source_ids(master_slave):
+    _, slave = master_slave
+    slave.configureInitFrom(PARENT)
+    slave.configureInitFrom(PARENT)  # allowed a second time with the same source
+    with pytest.raises(RuntimeError, match="already configured for initialization from another source id"):
+        slave.configureInitFrom(INTERFACE)
+
+
+def test_init_from_other_name(master_slave):
+    master, slave = master_slave
+    slave.property("double1").configureInitFrom(PARENT, "double2")
+    slave.performInitFrom(PARENT, master)
+    assert slave.get("double1") == 2.0
+    assert not slave.property("double2").defined()
+
+
+def test_init_from_function(master_slave):
+    master, slave = master_slave
+    slave.property("double3").configureInitFrom(PARENT, lambda other: other.get("double1") + other.get("double2"))
+    slave.performInitFrom(PARENT, master)
+    assert slave.get("double3") == 3.0
+
+
+def test_init_priority_parent_before_interface():
+    """A value inherited from PARENT is not overwritten from INTERFACE; a manual value wins over both."""
+    parent = PropertyMap({"x": 1.0})
+    iface = PropertyMap({"x": 2.0})
+    p = PropertyMap()
+    p.declare("x", type=float).configureInitFrom(PARENT | INTERFACE, "x")
+    p.performInitFrom(PARENT, parent)
+    p.performInitFrom(INTERFACE, iface)
+    assert p["x"] == 1.0
+    q = PropertyMap()
+    q.declare("x", type=float).configureInitFrom(PARENT | INTERFACE, "x")
+    q.performInitFrom(PARENT, PropertyMap({"y": 0.0}))  # undeclared in parent: skipped
+    q.performInitFrom(INTERFACE, iface)
+    assert q["x"] == 2.0
+    q.set("x", 5.0)
+    q.performInitFrom(PARENT, parent)
+    assert q["x"] == 5.0
+
+
+def test_init_type_mismatch_names_property():
+    p = PropertyMap()
+    p.declare("x", type=float).configureInitFrom(PARENT, "x")
+    with pytest.raises(PropertyTypeError, match="Property 'x': type str"):
+        p.performInitFrom(PARENT, PropertyMap({"x": "text"}))
+
+
+# --- Python binding surface (test_mtc.py) -----------------------------------------------
+
+
+@pytest.mark.parametrize("name,value", [
+    ("double", 3.14), ("long", 42), ("long", 13), ("bool", True), ("bool", False), ("string", "anything"),
+])
+def test_assign(name, value):
+    props = PropertyMap()
+    props[name] = value
+    assert props[name] == value
+
+
+def test_iter_items_update_bool():
+    props = PropertyMap()
+    assert not props  # MTC's binding says True for an empty map (Appendix A #4)
+    props["double"] = 3.14
+    props["bool"] = True
+    keys = list(props)
+    assert keys == ["bool", "double"]
+    assert [k for k, _ in props.items()] == keys
+    assert isinstance(props.items()[0][1], Property)
+    props.update({"double": 2.72, "bool": False})
+    props.update({})
+    assert props["double"] == 2.72 and props["bool"] is False
+    assert props
+    assert "bool" in props and "nothing" not in props
+    with pytest.raises(RuntimeError):
+        props["nothing"]
+
+
+def test_expose():
+    props = PropertyMap()
+    props["double"] = 3.14
+    other = PropertyMap()
+    props.exposeTo(other, "double")
+    assert other["double"] == props["double"]
+    props.exposeTo(other, "double", "float")
+    assert other["float"] == props["double"]
+    props["a"] = 1
+    props.exposeTo(other, ["a"])
+    assert other["a"] == 1
+    # only the type, description and default are exposed, not temporary values
+    props.setCurrent("a", 7)
+    third = PropertyMap()
+    props.exposeTo(third, "a")
+    assert third["a"] == 1
+
+
+def test_property_object():
+    p = Property()
+    p.setDescription("Foo Property")
+    p.setValue("Bar")
+    assert p.defined()
+    assert (p.value(), p.defaultValue(), p.description()) == ("Bar", "Bar", "Foo Property")
+    p.setCurrentValue("Baz")
+    p.reset()  # setValue() values are persistent
+    assert p.value() == "Bar"
+
+
+# --- typed attributes on stages ---------------------------------------------------------
+
+
+def test_stage_typed_attributes():
+    stage = GeneratorMockup()
+    stage.timeout = 5  # int for a float property
+    assert stage.timeout == 5.0 and isinstance(stage.timeout, float)
+    assert stage.properties["timeout"] == 5.0
+    stage.setTimeout(1.23)
+    assert stage.timeout == 1.23
+    for bad in ("string", [], {}, set(), None):
+        with pytest.raises(TypeError):
+            stage.timeout = bad
+    assert stage.marker_ns == stage.name
+    stage.marker_ns = "ns"
+    assert stage.properties["marker_ns"] == "ns"
+    with pytest.raises(UndefinedPropertyError):
+        GeneratorMockup().timeout  # noqa: B018
+
+
+def test_forwarded_properties_attribute():
+    stage = GeneratorMockup()
+    stage.forwarded_properties = ["name1", "name2", "name3"]
+    assert stage.forwarded_properties == ["name1", "name2", "name3"]
+    stage.forwarded_properties = "name"  # one name (Appendix A #6)
+    assert stage.forwarded_properties == ["name"]
+    with pytest.raises(TypeError, match="Expecting a string or a list of strings"):
+        stage.forwarded_properties = [1, 2]
+
+
+def test_plain_attributes_unaffected():
+    stage = GeneratorMockup()
+    stage.my_value = 3  # not a property: an ordinary attribute
+    assert stage.my_value == 3
+    assert "my_value" not in stage.properties
+    with pytest.raises(AttributeError):
+        stage.nothing  # noqa: B018
+
+
+# --- inheritance in a task -------------------------------------------------------------------
+
+
+class NeedsGroup(ForwardMockup):
+    def __init__(self):
+        super().__init__()
+        self.properties.declare("group", type=str).configureInitFrom(PARENT)
+
+    def computeForward(self, from_state):
+        self.properties.get("group")  # fails at compute time if undefined
+        super().computeForward(from_state)
+
+
+def test_parent_inheritance(t):
+    """A child inherits a property set on the task (the root container)."""
+    add(t, GeneratorMockup())
+    fwd = add(t, NeedsGroup())
+    t.setProperty("group", "arm")
+    assert t.plan()
+    assert fwd.properties["group"] == "arm"
+
+
+def test_undefined_property_at_compute_names_the_chain(t):
+    """An undefined property raised in compute() says where it is (un)declared up the tree."""
+    add(t, GeneratorMockup())
+    inner = add(t, core.SerialContainer("pick"))
+    add(inner, NeedsGroup())
+    with pytest.raises(RuntimeError) as info:
+        t.plan()
+    assert str(info.value) == (
+        "Property 'group': undefined\n"
+        "in stage 'FWD1': declared, but undefined, inherits from parent\n"
+        "in stage 'pick': undeclared\n"
+        "in stage 'task pipeline': undeclared"
+    )
+
+
+def test_inheritance_type_error_becomes_init_error(t):
+    add(t, GeneratorMockup())
+    add(t, NeedsGroup())
+    t.setProperty("group", 3)
+    with pytest.raises(core.InitStageError) as info:
+        t.plan()
+    assert "FWD1: Property 'group': type int doesn't match property's declared type str" in str(info.value)
+    assert "in stage 'task pipeline': defined here" in str(info.value)
