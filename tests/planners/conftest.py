@@ -25,7 +25,7 @@ def ready_scene(panda) -> PlanningScene:
     return scene
 
 
-def add_box(scene: PlanningScene, name: str, position, size=(0.1, 0.1, 0.1)) -> None:
+def _add_box(scene: PlanningScene, name: str, position, size=(0.1, 0.1, 0.1)) -> None:
     """Add a box at ``position`` (world frame, identity orientation) to ``scene``."""
     pose = np.eye(4)
     pose[:3, 3] = position
@@ -39,3 +39,9 @@ def add_box(scene: PlanningScene, name: str, position, size=(0.1, 0.1, 0.1)) -> 
             operation=msgs.CollisionObject.ADD,
         )
     )
+
+
+@pytest.fixture
+def add_box():
+    """``add_box(scene, name, position, size=(0.1, 0.1, 0.1))``: put a box into a scene."""
+    return _add_box
