@@ -1,0 +1,241 @@
+"""Tests of stages.Connect: pairing rules, planning per group, merge modes, failures."""
+
+from __future__ import annotations
+
+import pytest
+
+from mtc import core, msgs, stages
+from mtc.planners.cartesian_path import CartesianPath
+from mtc.planners.joint_interpolation import JointInterpolationPlanner
+from mtc.planners.planner_interface import PlannerInterface, PlannerResult
+
+
+class RecordingPlanner(PlannerInterface):
+    """A test double: records plan() calls and answers with a fixed result and no trajectory."""
+
+    def __init__(self, result=PlannerResult(False, "no way")):
+        super().__init__()
+        self.result = result
+        self.calls = []
+
+    def plan(self, from_scene, to_scene, group, timeout, path_constraints=None):
+        self.calls.append((group, timeout, path_constraints))
+        return self.result, None
+
+    def plan_to_pose(self, *args, **kwargs):  # pragma: no cover - Connect plans joint goals
+        raise AssertionError("Connect plans to joint goals only")
+
+
+def goal_scene(ready_scene, arm="extended", hand="open"):
+    scene = ready_scene.diff()
+    scene.current_state.set_to_default_values("panda_arm", arm)
+    scene.current_state.set_to_default_values("hand", hand)
+    return scene
+
+
+def arm_connect(planner=None, name="connect"):
+    return stages.Connect(name, [("panda_arm", planner or JointInterpolationPlanner())])
+
+
+# ------------------------------------------------------------------------------ properties
+def test_defaults():
+    """Name, timeout 1.0 (set), merge_mode WAYPOINTS, max_distance 1e-2, PathLength."""
+    c = stages.Connect()
+    assert c.name == "connect"
+    assert c.timeout == 1.0 and c.properties.property("timeout").defined()
+    assert c.merge_mode == stages.MergeMode.WAYPOINTS
+    assert c.max_distance == 1e-2
+    assert c.path_constraints == msgs.Constraints()
+    assert isinstance(c.costTerm(), core.PathLength)
+    assert int(stages.MergeMode.SEQUENTIAL) == 0 and int(stages.MergeMode.WAYPOINTS) == 1
+
+
+def test_merge_mode_accepts_enum_and_int():
+    """merge_mode takes the enum or its int value; anything else is a TypeError."""
+    c = stages.Connect()
+    c.merge_mode = stages.MergeMode.SEQUENTIAL
+    assert c.merge_mode == stages.MergeMode.SEQUENTIAL
+    c.merge_mode = 1
+    assert c.merge_mode is stages.MergeMode.WAYPOINTS
+    with pytest.raises(TypeError):
+        c.merge_mode = "fast"
+
+
+def test_planners_must_be_group_planner_pairs():
+    """The planners argument is a list of (group, planner) pairs."""
+    with pytest.raises(TypeError, match="pair"):
+        stages.Connect("c", ["panda_arm"])
+    with pytest.raises(TypeError, match="PlannerInterface"):
+        stages.Connect("c", [("panda_arm", "RRTConnect")])
+    c = stages.Connect("c", ("panda_arm", JointInterpolationPlanner()))  # a single pair is accepted
+    assert [g for g, _ in c.planners] == ["panda_arm"]
+
+
+@pytest.mark.parametrize(
+    ("planners", "message"),
+    [
+        ([], "empty set of groups"),
+        ([("panda_arn", JointInterpolationPlanner())], "invalid group: panda_arn"),
+        ([("panda_arm", None)], "invalid planner for group: panda_arm"),
+    ],
+)
+def test_init_errors(make_task, ready_scene, planners, message):
+    """Configuration errors are raised at init with MTC's texts."""
+    task = make_task(stages.CurrentState(), stages.Connect("c", planners), stages.FixedState("end", goal_scene(ready_scene)))
+    with pytest.raises(core.InitStageError, match=message):
+        task.plan()
+
+
+# ------------------------------------------------------------------------------ planning
+def test_connect_current_state_to_fixed_state(make_task, ready_scene):
+    """CurrentState -> Connect -> FixedState: one trajectory from start to goal, cost = path length."""
+    end = goal_scene(ready_scene)
+    c = arm_connect()
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
+    assert task.plan()
+    sol = c.solutions[0]
+    assert isinstance(sol, core.SubTrajectory)
+    traj = sol.trajectory
+    assert traj[0] == sol.start.scene.current_state
+    assert traj[len(traj) - 1].distance(end.current_state) < 1e-9
+    assert sol.cost == pytest.approx(sol.start.scene.current_state.distance(end.current_state))
+    assert len(task.solutions) == 1
+
+
+def test_all_pairs_are_connected(make_task, ready_scene):
+    """Two start states and two end states give four connections."""
+    starts = core.Alternatives("starts")
+    starts.add(stages.FixedState("a", goal_scene(ready_scene, "ready")), stages.FixedState("b", goal_scene(ready_scene, "transport")))
+    ends = core.Alternatives("ends")
+    ends.add(stages.FixedState("c", goal_scene(ready_scene, "extended")), stages.FixedState("d", goal_scene(ready_scene, "transport")))
+    c = arm_connect()
+    task = make_task(starts, c, ends)
+    assert task.plan()
+    assert len(c.solutions) == 4
+
+
+def test_unplanned_joints_must_agree(make_task, ready_scene):
+    """States whose hand joints differ are not paired when only the arm is planned."""
+    c = arm_connect()
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", goal_scene(ready_scene, hand="close")))
+    assert not task.plan()
+    assert c.numFailures() == 0 and len(c.solutions) == 0
+    assert not c.compatible(
+        core.InterfaceState(ready_scene), core.InterfaceState(goal_scene(ready_scene, hand="close"))
+    )
+    assert c.compatible(core.InterfaceState(ready_scene), core.InterfaceState(goal_scene(ready_scene)))
+
+
+def test_worlds_must_agree(make_task, ready_scene, box):
+    """States with different world objects are not paired."""
+    end = goal_scene(ready_scene)
+    end.apply_collision_object(box("crate", (0.6, 0.4, 0.9)))
+    c = arm_connect()
+    assert not c.compatible(core.InterfaceState(ready_scene), core.InterfaceState(end))
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
+    assert not task.plan()
+    assert c.numFailures() == 0
+
+
+def test_planner_failure_comment(make_task, ready_scene, box):
+    """A planner failure is the connection's failure comment (here: a box on the straight line)."""
+    start = ready_scene.diff()
+    # the hand passes (0.32, 0, 0.96) half way from 'ready' to 'extended'
+    start.apply_collision_object(box("wall", (0.32, 0.0, 0.96), size=(0.05, 0.05, 0.05)))
+    end = goal_scene(start)
+    c = arm_connect()
+    task = make_task(stages.FixedState("start", start), c, stages.FixedState("end", end))
+    assert not task.plan()
+    assert c.failures[0].comment == "Waypoint is in collision!"
+    assert isinstance(c.failures[0], core.SolutionSequence)
+
+
+def test_cartesian_branches_fail(make_task, ready_scene):
+    """MTC's connectCartesianBranchesFails: CartesianPath reaches the goal pose on another IK
+    branch, so the end point deviates from the goal state."""
+    end = ready_scene.diff()
+    end.current_state.set_joint_group_positions("panda_arm", [2.72, 0.78, -2.63, -2.35, 0.36, 1.57, 0.48])
+    c = stages.Connect("connect", [("panda_arm", CartesianPath())])
+    task = make_task(stages.FixedState("start", ready_scene), c, stages.FixedState("end", end))
+    assert not task.plan()
+    assert c.failures[0].comment == "Trajectory end-point deviates too much from goal state"
+
+
+def test_planner_gets_timeout_and_path_constraints(make_task, ready_scene):
+    """Each planner is called with its group, the stage timeout and the path constraints."""
+    planner = RecordingPlanner()
+    c = stages.Connect("c", [("panda_arm", planner)])
+    c.timeout = 0.5
+    constraints = msgs.Constraints(name="upright")
+    c.path_constraints = constraints
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", goal_scene(ready_scene)))
+    assert not task.plan()
+    assert planner.calls == [("panda_arm", 0.5, constraints)]
+    assert c.failures[0].comment == "no way"
+
+
+# ------------------------------------------------------------------------------ several groups
+def test_two_groups_sequential(make_task, ready_scene):
+    """SEQUENTIAL: one sub-solution per group, chained through intermediate states."""
+    planner = JointInterpolationPlanner()
+    c = stages.Connect("c", [("panda_arm", planner), ("hand", planner)])
+    c.merge_mode = stages.MergeMode.SEQUENTIAL
+    end = goal_scene(ready_scene, hand="close")
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
+    assert task.plan()
+    sol = c.solutions[0]
+    assert isinstance(sol, core.SolutionSequence)
+    arm, hand = sol.solutions
+    assert arm.trajectory.joint_model_group_name == "panda_arm"
+    assert hand.trajectory.joint_model_group_name == "hand"
+    assert arm.end is hand.start
+    # the intermediate state: arm at the goal, hand still open
+    mid = arm.end.scene.current_state
+    assert mid.get_joint_group_positions("panda_arm") == pytest.approx(end.current_state.get_joint_group_positions("panda_arm"))
+    assert mid.joint_positions["panda_finger_joint1"] == pytest.approx(0.035)
+    assert hand.end.scene is end
+    path_length = sum(
+        a.distance(b) for part in (arm, hand) for a, b in zip(part.trajectory.waypoints, part.trajectory.waypoints[1:])
+    )
+    assert sol.cost == pytest.approx(path_length)
+
+
+def test_two_groups_merged(make_task, ready_scene):
+    """WAYPOINTS (default): the groups' trajectories are merged into one moving both at once."""
+    planner = JointInterpolationPlanner()
+    c = stages.Connect("c", [("panda_arm", planner), ("hand", planner)])
+    end = goal_scene(ready_scene, hand="close")
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
+    assert task.plan()
+    sol = c.solutions[0]
+    assert isinstance(sol, core.SubTrajectory)
+    traj = sol.trajectory
+    last = traj[len(traj) - 1]
+    assert last.distance(end.current_state) < 1e-6
+    assert set(traj.joint_names) >= {"panda_joint1", "panda_finger_joint1"}
+
+
+def test_second_group_failure_is_a_sequence_with_the_failed_part(make_task, ready_scene):
+    """If a later group fails, the failure keeps the planned parts and a failed last part."""
+    c = stages.Connect("c", [("panda_arm", JointInterpolationPlanner()), ("hand", RecordingPlanner(PlannerResult(False, "stuck")))])
+    end = goal_scene(ready_scene, hand="close")
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
+    assert not task.plan()
+    failure = c.failures[0]
+    assert failure.comment == "stuck"
+    arm, hand = failure.solutions
+    assert not arm.isFailure and hand.isFailure and hand.trajectory is None
+
+
+def test_overlapping_groups_disable_merging(make_task, ready_scene, caplog):
+    """Overlapping groups cannot be merged: Connect stores them sequentially (info log)."""
+    import logging
+
+    caplog.set_level(logging.INFO)
+    planner = JointInterpolationPlanner()
+    c = stages.Connect("c", [("panda_arm", planner), ("panda_arm_hand", planner)])
+    end = goal_scene(ready_scene, hand="close")
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
+    assert task.plan()
+    assert "Disabling merging" in caplog.text
+    assert isinstance(c.solutions[0], core.SolutionSequence)
