@@ -740,6 +740,28 @@ BAD_INPUT = {
         lambda s: s.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=box("obj", (0, 0, 0)))),
         ValueError, ["'obj'", "already attached"],
     ),
+    "attach-msg-unknown-frame": (
+        lambda s: s.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=box("new", (0, 0, 0), frame="tool0"))),
+        KeyError, ["'new'", "'tool0'", "panda_hand"],
+    ),
+    "attach-msg-bad-shape": (
+        lambda s: s.apply_attached_collision_object(
+            msgs.AttachedCollisionObject(link_name="panda_hand", object=obj("new", SolidPrimitive.BOX, [0.1, -0.1, 0.1], frame="panda_hand"))
+        ),
+        ValueError, ["'new'", "box"],
+    ),
+    "attach-msg-unknown-touch-link": (
+        lambda s: s.apply_attached_collision_object(
+            msgs.AttachedCollisionObject(link_name="panda_hand", object=box("new", (0, 0, 0)), touch_links=["panda_palm"])
+        ),
+        KeyError, ["'panda_palm'", "panda_hand"],
+    ),
+    "attach-msg-move": (
+        lambda s: s.apply_attached_collision_object(
+            msgs.AttachedCollisionObject(link_name="panda_hand", object=CollisionObject(id="far", operation=CollisionObject.MOVE))
+        ),
+        ValueError, ["ADD", "REMOVE"],
+    ),
     "detach-msg-unknown": (
         lambda s: s.apply_attached_collision_object(msgs.AttachedCollisionObject(object=CollisionObject(id="ghost", operation=CollisionObject.REMOVE))),
         KeyError, ["'ghost'", "obj"],
