@@ -395,3 +395,35 @@ def test_copy_is_independent(state):
 
     d = copy.deepcopy(state)
     assert d == state and d is not state
+
+
+MIMIC_URDF = """<robot name="mimic">
+  <link name="base"/><link name="a"/><link name="b"/>
+  <joint name="master" type="revolute"><parent link="base"/><child link="a"/><axis xyz="0 0 1"/>
+    <origin xyz="0 0 0.1"/><limit lower="-2" upper="2" velocity="1" effort="1"/></joint>
+  <joint name="follower" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 1 0"/>
+    <origin xyz="0.3 0 0"/><limit lower="-5" upper="5" velocity="1" effort="1"/>
+    <mimic joint="master" multiplier="-2" offset="0.25"/></joint>
+</robot>"""
+MIMIC_SRDF = '<robot name="mimic"><group name="g"><joint name="master"/></group></robot>'
+
+
+def test_mimic_multiplier_and_offset():
+    """A follower is multiplier * master + offset; the group holds the follower, exposes only the master;
+    the Jacobian credits the follower's motion to the master."""
+    from mtc.scene.robot_model import RobotModel
+
+    model = RobotModel(MIMIC_URDF, MIMIC_SRDF)
+    assert model.mimic_followers == [(1, 0, -2.0, 0.25)]
+    group = model.get_joint_model_group("g")
+    assert group.variable_names == ["master"] and "follower" in group.joint_model_names
+    s = RobotState(model)
+    assert s.positions.tolist() == [0.0, 0.25]
+    s.joint_positions = {"master": 0.5}
+    assert s.positions.tolist() == pytest.approx([0.5, -0.75])
+    s.joint_positions = {"follower": 3.0}  # a follower cannot be set on its own
+    assert s.positions.tolist() == pytest.approx([0.5, -0.75])
+    point = [0.2, 0.0, 0.1]
+    np.testing.assert_allclose(s.get_jacobian("g", "b", reference_point=point), _numeric_jacobian(s, "g", "b", point=point), atol=2e-5)
+    other = RobotState(model)
+    assert s.distance(other) == pytest.approx(0.5)  # followers do not count
