@@ -470,3 +470,13 @@ def test_unknown_links_in_disabled_pairs_are_ignored(caplog):
         model = RobotModel(str(TOY_URDF), srdf)
     assert model.disabled_collision_pairs == []
     assert "ghost" in caplog.text
+
+
+def test_a_pathlib_path_finds_relative_meshes_too(tmp_path):
+    """A URDF given as pathlib.Path resolves relative mesh paths next to the file, as a str path does."""
+    write_cube_stl(tmp_path / "near.stl", 0.1)
+    path = write(tmp_path, "r.urdf", urdf('<link name="a"><collision><geometry><mesh filename="near.stl"/></geometry></collision></link>'))
+    assert RobotModel(path).links_with_collision_geometry == ["a"]
+    from pathlib import Path
+
+    assert RobotModel(Path(path)).links_with_collision_geometry == ["a"]
