@@ -379,3 +379,24 @@ def test_cartesian_demo(make_task):
     task = make_task(stages.CurrentState("current state"), *moves, home)
     assert task.plan()
     assert len(task.solutions) == 1
+
+
+def test_markers_show_reached_and_missing_parts(make_task, ready_scene, move, sphere):
+    """A green arrow shows the reached motion, a red one the part that could not be moved."""
+    move.setDirection(vector(v=(0.1, 0, 0)))
+    task = make_task(start(ready_scene), move)
+    assert task.plan()
+    (arrow,) = move.solutions[0].markers
+    assert arrow["color"] == "green" and arrow["ns"] == "move"
+    assert arrow["end"] - arrow["start"] == pytest.approx([0.1, 0, 0], abs=1e-3)
+
+    hand = ready_scene.current_state.get_global_link_transform("panda_hand")[:3, 3]
+    ready_scene.apply_collision_object(sphere("object", (hand[0], hand[1], hand[2] - 0.2), radius=0.01))
+    blocked = stages.MoveRelative("blocked", CartesianPath())
+    blocked.group = "panda_arm"
+    blocked.setIKFrame("panda_hand")
+    blocked.setDirection(vector("panda_hand", (0, 0, 0.4)))
+    task = make_task(start(ready_scene), blocked)
+    assert not task.plan()
+    colors = [m["color"] for m in blocked.failures[0].markers]
+    assert colors == ["green", "red"]

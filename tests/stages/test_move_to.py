@@ -414,3 +414,15 @@ def test_seed_current_state_to_ready_to_extended(make_task):
     sol = task.solutions[0]
     assert sol.cost == pytest.approx(a.solutions[0].cost + b.solutions[0].cost)
     assert sol.cost == pytest.approx(2 * 3.0712, abs=1e-3)
+
+
+def test_pose_goal_markers(make_task, start_scene, move):
+    """A pose goal's solution carries 'target frame' and 'ik frame' markers in the stage's marker_ns."""
+    pose = frame_pose_of_named_state(start_scene, "ready", "panda_link8")
+    move.setGoal(pose)
+    one_solution(make_task(stages.FixedState("start", start_scene), move))
+    markers = {m["name"]: m for m in move.solutions[0].markers}
+    assert set(markers) == {"target frame", "ik frame"}
+    assert markers["target frame"]["ns"] == "move"
+    assert markers["target frame"]["pose"] == pytest.approx(msgs.pose_to_matrix(pose.pose))
+    assert markers["ik frame"]["pose"] == pytest.approx(start_scene.current_state.get_global_link_transform("panda_link8"))

@@ -12,6 +12,9 @@ need the same conversions, so they live here once:
 * Directions of ``MoveRelative``: ``TwistStamped`` | ``Vector3Stamped`` | ``{joint: delta}``
   (:func:`check_direction`, :func:`joint_deltas`).
 * Collision pairs in comments: ``"a - b, c - d"`` (:func:`format_collision_pairs`).
+* Markers on solutions (:func:`frame_marker`, :func:`arrow_marker`): ``mtc`` has no ROS marker
+  message, so a marker is a plain dict ``{"type": "frame"|"arrow", "ns", "name", ...}`` with
+  poses and points in the planning frame, for viewers and introspection.
 
 Errors are exceptions here; each stage turns them into its own failure comment or init error.
 """
@@ -46,6 +49,8 @@ __all__ = [
     "check_direction",
     "joint_deltas",
     "format_collision_pairs",
+    "frame_marker",
+    "arrow_marker",
     "type_name",
 ]
 
@@ -388,3 +393,15 @@ def joint_deltas(direction: dict, robot_model, group: str) -> dict[str, float]:
 def format_collision_pairs(pairs: Iterable) -> str:
     """``"a - b, c - d"`` from ``(a, b, ...)`` tuples (as MTC's collision comments)."""
     return ", ".join(f"{p[0]} - {p[1]}" for p in pairs)
+
+
+def frame_marker(ns: str, name: str, pose: np.ndarray, frame_id: str = "world", scale: float = 0.1) -> dict:
+    """A coordinate-frame marker (MTC's ``appendFrame``): ``pose`` 4x4 in ``frame_id``, axes ``scale`` [m] long."""
+    return {"type": "frame", "ns": ns, "name": name, "frame_id": frame_id, "pose": np.array(pose, dtype=float),
+            "scale": float(scale)}
+
+
+def arrow_marker(ns: str, name: str, start, end, color: str = "green", frame_id: str = "world") -> dict:
+    """An arrow marker from ``start`` to ``end`` (3-vectors in ``frame_id``); ``color`` "green" (ok) or "red"."""
+    return {"type": "arrow", "ns": ns, "name": name, "frame_id": frame_id,
+            "start": np.array(start, dtype=float), "end": np.array(end, dtype=float), "color": color}

@@ -19,6 +19,7 @@ from mtc.core.storage import Interface, InterfaceState, SubTrajectory
 from mtc.stages._common import (
     FrameError,
     GoalError,
+    arrow_marker,
     check_direction,
     frame_pose,
     ik_frame_from_args,
@@ -244,6 +245,20 @@ class MoveRelative(PropagatingEitherWay):
                     success = True
                 elif not success:
                     solution.comment = "failed to move full distance"
+                ns = props.get("marker_ns", "")
+                if ns and not use_rotation_distance:
+                    # reached part green, missing part red (MTC's visualizePlan)
+                    frame_id = scene.planning_frame
+                    given, got, wanted = start_pose[:3, 3], reached[:3, 3], target[:3, 3]
+                    # arrows point the way the robot moves in time (backward: towards the given state)
+                    if backward:
+                        solution.markers.append(arrow_marker(ns, "reached", got, given, "green", frame_id))
+                        if not success:
+                            solution.markers.append(arrow_marker(ns, "missing", wanted, got, "red", frame_id))
+                    else:
+                        solution.markers.append(arrow_marker(ns, "reached", given, got, "green", frame_id))
+                        if not success:
+                            solution.markers.append(arrow_marker(ns, "missing", got, wanted, "red", frame_id))
 
         if trajectory is None or len(trajectory) == 0:
             # nothing to show: a failure with the planner's reason (silent if it gave none)

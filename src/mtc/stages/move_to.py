@@ -17,6 +17,7 @@ from mtc.stages._common import (
     FrameError,
     GoalError,
     check_goal,
+    frame_marker,
     frame_pose,
     ik_frame_from_args,
     is_joint_goal,
@@ -173,6 +174,12 @@ class MoveTo(PropagatingEitherWay):
             result, trajectory = self._planner.plan_to_pose(
                 state.scene, ik.link, ik.offset, target, group, timeout, path_constraints
             )
+            ns = props.get("marker_ns", "")
+            frame = scene.planning_frame
+            markers = [frame_marker(ns, "target frame", target, frame), frame_marker(ns, "ik frame", ik.pose, frame)]
+            ok, scene, solution = self._store(state, scene, group, direction, result, trajectory)
+            solution.markers.extend(markers)
+            return ok, scene, solution
         return self._store(state, scene, group, direction, result, trajectory)
 
     def _store(self, state, scene, group, direction, result, trajectory):
