@@ -1,0 +1,380 @@
+"""ComputeIK: turn the target poses of a generator's states into robot states.
+
+MTC's ``stages/compute_ik.h`` (semantics §2.3). ComputeIK wraps a generator (usually of the
+``GeneratePose`` family) whose states carry a ``target_pose`` (and possibly an ``ik_frame``)
+property. For each of the child's solutions, cheapest first, it
+
+1. inherits ``target_pose`` etc. from the solution's state (``configureInitFrom(INTERFACE, ...)``),
+2. resolves the end effector / group, the target in the planning frame and the IK frame
+   (a link, an attached object or an object's subframe, plus an offset on it),
+3. unless ``ignore_collisions``, checks the end-effector links placed at the target against
+   the world ("eef in collision: a - b"),
+4. solves IK, first from the scene's state, then from random seeds, and spawns every
+   distinct candidate (closer than ``min_solution_distance`` to an earlier one counts as
+   the same): valid ones with cost = upstream cost + joint distance to ``default_pose`` (or
+   to the start state), colliding ones as failures "Collision between a - b", ones violating
+   ``constraints`` as failures "Constraints violated"; with none at all, "no IK found".
+
+ComputeIK spawns its own solutions (``SubTrajectory`` without trajectory), not wrapped ones.
+
+Determinism (beyond MTC): the random IK seeds come from a generator seeded with the ``seed``
+property and the number of child solutions handled since ``reset()``, and the search makes
+at most ``max_ik_attempts`` descents per wanted solution. When that budget, not ``timeout``,
+ends the search (the usual case), the same task gives the same IK solutions on any machine.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+
+from mtc import msgs
+from mtc.core.container import WrapperBase
+from mtc.core.properties import unsigned_int
+from mtc.core.stage import InitStageError, Stage
+from mtc.core.storage import InterfaceState, SolutionBase, SubTrajectory
+from mtc.stages._common import (
+    FrameError,
+    format_collision_pairs,
+    ik_frame_from_args,
+    pose_stamped_from_args,
+    resolve_frame,
+)
+from mtc.stages.generate_pose import SolutionQueue, frame_marker, pose_stamped
+
+__all__ = ["ComputeIK"]
+
+
+def _join(prefix: str, text: str) -> str:
+    """MTC prepends the upstream solution's comment (``s.comment() + " no IK found"``)."""
+    return f"{prefix} {text}" if prefix else text
+
+
+def _inverse(T: np.ndarray) -> np.ndarray:
+    inv = np.eye(4)
+    R = T[:3, :3]
+    inv[:3, :3] = R.T
+    inv[:3, 3] = -R.T @ T[:3, 3]
+    return inv
+
+
+def descendant_links(robot_model, link: str) -> set[str]:
+    """``link`` and every link below it (the links that move when ``link`` is placed)."""
+    pm = robot_model.pinocchio_model
+    joint = pm.frames[robot_model.frame_id(link)].parentJoint
+    if joint == 0:  # fixed to the root: the whole robot hangs below it
+        return set(robot_model.link_model_names)
+    subtree = set(pm.subtrees[joint])
+    out = {link}
+    for name in robot_model.link_model_names:
+        if pm.frames[robot_model.frame_id(name)].parentJoint in subtree:
+            out.add(name)
+    return out
+
+
+def eef_collisions(scene, link: str, link_target: np.ndarray) -> list[tuple[str, str]]:
+    """Collisions with world objects of ``link``, the links below it and the objects attached
+    to them, were ``link`` placed at ``link_target`` (4x4, planning frame) with the rest of
+    the state unchanged (MTC's ``isTargetPoseCollidingInEEF``).
+
+    The scene's API checks robot states only, so instead of moving the end effector to the
+    target, the world is moved by the inverse motion: the relative placement, and so every
+    contact, is the same. Only pairs of a moved body and a world object are reported.
+    """
+    state = scene.current_state
+    motion = link_target @ _inverse(state.get_global_link_transform(link))
+    back = _inverse(motion)
+    world = scene.world_object_names
+    if not world:
+        return []
+    probe = scene.diff()
+    for name in world:
+        obj = probe.get_world_object(name)
+        probe.apply_collision_object(
+            msgs.CollisionObject(id=name, operation=msgs.CollisionObject.MOVE, pose=msgs.matrix_to_pose(back @ obj.pose))
+        )
+    moved = descendant_links(scene.robot_model, link)
+    moved |= {name for name in scene.attached_object_names if scene.get_attached_object(name).link in moved}
+    world_set = set(world)
+    pairs = []
+    for a, b in probe.get_collisions():
+        if (a in moved and b in world_set) or (b in moved and a in world_set):
+            pairs.append((a, b))
+    return pairs
+
+
+class ComputeIK(WrapperBase):
+    """Solve IK for the target poses of the wrapped generator's states.
+
+    Args:
+        name: Stage name.
+        stage: The wrapped generator (may be inserted later with ``insert()``).
+
+    Properties:
+        eef: End effector; its parent group is the default ``group``, its parent link the
+            default IK link.
+        group: Planning group to solve for.
+        default_pose: Named state of the group the cost is measured to ("" = the start state).
+        max_ik_solutions: Distinct IK solutions wanted per target (default 1).
+        ignore_collisions: Accept colliding solutions (default False).
+        min_solution_distance: Joint distance below which two solutions are the same (0.1).
+        constraints: ``msgs.Constraints`` every solution must satisfy.
+        ik_frame: ``PoseStamped`` of the robot frame to put at the target (default: the eef's
+            parent link or the group's tip); a link, attached object or ``"object/subframe"``.
+        target_pose: ``PoseStamped`` to reach (read from the child's states by default).
+        timeout: Time limit per target [s] (default: the group's IK timeout).
+        seed: Seed of the random IK restarts (default 0).
+        max_ik_attempts: IK descents per wanted solution (default 20).
+    """
+
+    def __init__(self, name: str = "IK", stage: Stage | None = None):
+        super().__init__(name, stage)
+        p = self.properties
+        p.declare("eef", None, "name of end-effector", type=str)
+        p.declare("group", None, "name of active group (derived from eef if not provided)", type=str)
+        p.declare("default_pose", "", "default joint pose of active group (defines cost of IK)")
+        p.declare("max_ik_solutions", 1, "maximum number of IK solutions per target", type=unsigned_int)
+        p.declare("ignore_collisions", False, "accept colliding IK solutions")
+        p.declare("min_solution_distance", 0.1,
+                  "minimum distance between separate IK solutions for the same target", type=float)
+        p.declare("constraints", msgs.Constraints(), "constraints to maintain during trajectory")
+        p.declare("ik_frame", None, "frame to be moved towards goal pose", type=msgs.PoseStamped)
+        p.declare("target_pose", None, "goal pose for ik frame", type=msgs.PoseStamped)
+        p.declare("seed", 0, "seed of the random IK restarts", type=int)
+        p.declare("max_ik_attempts", 20, "IK descents (the first from the start state) per wanted solution",
+                  type=unsigned_int)
+        # the generator's states carry the target (MTC's demos configure this explicitly)
+        p.configureInitFrom(Stage.INTERFACE, ["target_pose"])
+        self._upstream = SolutionQueue()
+        self._consumed = 0
+
+    # --- configuration (MTC's setters) --------------------------------------------------
+    def setEndEffector(self, eef: str) -> None:
+        """Set ``eef``."""
+        self.properties.set("eef", eef)
+
+    def setGroup(self, group: str) -> None:
+        """Set ``group``."""
+        self.properties.set("group", group)
+
+    def setIKFrame(self, *args) -> None:
+        """``setIKFrame(PoseStamped)``, ``setIKFrame(pose, link)`` or ``setIKFrame(link)``."""
+        self.properties.set("ik_frame", ik_frame_from_args(*args))
+
+    def setTargetPose(self, *args) -> None:
+        """``setTargetPose(PoseStamped)`` or ``setTargetPose(pose, frame="")``."""
+        self.properties.set("target_pose", pose_stamped_from_args("setTargetPose", *args, default_frame=""))
+
+    def setMaxIKSolutions(self, n: int) -> None:
+        """Set ``max_ik_solutions``."""
+        self.properties.set("max_ik_solutions", n)
+
+    def setIgnoreCollisions(self, ignore: bool) -> None:
+        """Set ``ignore_collisions``."""
+        self.properties.set("ignore_collisions", ignore)
+
+    def setMinSolutionDistance(self, distance: float) -> None:
+        """Set ``min_solution_distance``."""
+        self.properties.set("min_solution_distance", distance)
+
+    # --- lifecycle ----------------------------------------------------------------------
+    def reset(self) -> None:
+        super().reset()
+        self._upstream.clear()
+        self._consumed = 0
+
+    def init(self, robot_model) -> None:
+        errors = InitStageError()
+        try:
+            super().init(robot_model)
+        except InitStageError as e:
+            errors.append(e)
+        # eef and group may also come from the interface; validate what is known now
+        _, _, msg = self._groups(robot_model)
+        if msg:
+            errors.push_back(self, msg)
+        if errors:
+            raise errors
+
+    def _groups(self, robot_model):
+        """``(eef, group JointModelGroup or None, error message or "")``."""
+        p = self.properties
+        eef = p.get("eef", None)
+        group = p.get("group", None)
+        msgs_ = []
+        eef_model = None
+        if eef is not None:
+            if eef in robot_model.end_effectors:
+                eef_model = robot_model.get_end_effector(eef)
+            else:
+                msgs_.append(f"Unknown end effector: {eef}")
+        jmg = None
+        if group is not None:
+            if robot_model.has_joint_model_group(group):
+                jmg = robot_model.get_joint_model_group(group)
+            else:
+                msgs_.append(f"Unknown group: {group}")
+        elif eef_model is not None:
+            jmg = robot_model.get_joint_model_group(eef_model.parent_group)
+        return eef_model, jmg, "; ".join(msgs_)
+
+    # --- computing ----------------------------------------------------------------------
+    def onNewSolution(self, solution: SolutionBase) -> None:
+        self._upstream.push(solution)
+
+    def canCompute(self) -> bool:
+        return bool(self._upstream) or super().canCompute()
+
+    def compute(self) -> None:
+        if super().canCompute():
+            super().compute()
+        if not self._upstream:
+            return
+        s = self._upstream.pop()
+        self._solve(s)
+
+    def _fail(self, s: SolutionBase, comment: str, scene=None, markers=()) -> None:
+        solution = SubTrajectory.failure(comment)
+        solution.markers.extend(markers)
+        self.spawn(InterfaceState(scene if scene is not None else s.start.scene.diff()), solution)
+
+    def _solve(self, s: SolutionBase) -> None:
+        p = self.properties
+        p.performInitFrom(Stage.INTERFACE, s.start.properties)
+        scene = s.start.scene
+        model = scene.robot_model
+
+        # 1. end effector and group
+        eef_model, jmg, msg = self._groups(model)
+        if msg:
+            self._fail(s, msg)
+            return
+        if jmg is None:
+            self._fail(s, "Neither eef nor group are well defined")
+            return
+        # 2. MTC's timeout default: the group's IK timeout
+        p.property("timeout").setDefaultValue(float(jmg.default_ik_timeout))
+
+        # 3. target pose in the planning frame
+        target_msg = msgs.from_dict(msgs.PoseStamped, msgs.to_dict(p.get("target_pose")))
+        frame = target_msg.header.frame_id
+        if not frame:
+            target_msg.header.frame_id = frame = scene.planning_frame
+        if not scene.knows_frame_transform(frame):
+            self._fail(s, f"Unknown reference frame for target pose: '{frame}'")
+            return
+        target = scene.get_frame_transform(frame) @ msgs.pose_to_matrix(target_msg.pose)
+
+        # 4. IK link and the offset of the IK frame on it
+        ik_frame = p.get("ik_frame", None)
+        if ik_frame is None:
+            if eef_model is not None:
+                tip = eef_model.parent_link
+            elif len(jmg.end_effector_tips) == 1:
+                tip = jmg.end_effector_tips[0]
+            else:
+                self._fail(s, "Failed to derive IK target link")
+                return
+            ik_frame = msgs.PoseStamped(header=msgs.Header(frame_id=tip), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
+        try:
+            link, frame_offset = resolve_frame(scene, ik_frame.header.frame_id)
+        except FrameError:
+            self._fail(s, f"ik frame unknown in robot: '{ik_frame.header.frame_id}'")
+            return
+        offset = frame_offset @ msgs.pose_to_matrix(ik_frame.pose)
+        link_target = target @ _inverse(offset)
+        markers = [frame_marker(self.markerNS(), "target frame", target_msg),
+                   frame_marker(self.markerNS(), "ik frame", ik_frame)]
+
+        # 5. the end effector alone at the target must not collide with the world
+        ignore_collisions = p.get("ignore_collisions")
+        if not ignore_collisions:
+            pairs = eef_collisions(scene, link, link_target)
+            if pairs:
+                self._fail(s, _join(s.comment, f"eef in collision: {format_collision_pairs(pairs)}"), markers=markers)
+                return
+
+        # 6. reference for the cost
+        from mtc.planners import ik as ik_module
+
+        try:
+            solver = ik_module.get_ik_solver(model, jmg.name, link)
+        except ValueError:
+            # no variable of the group moves the IK frame
+            self._fail(s, _join(s.comment, "no IK found"), markers=markers)
+            return
+        start_q = scene.current_state.positions.copy()
+        reference = start_q.copy()
+        default_pose = p.get("default_pose")
+        if default_pose:
+            reference_state = scene.current_state.copy()
+            try:
+                reference_state.set_to_default_values(jmg.name, default_pose)
+            except KeyError as e:
+                self._fail(s, f"unknown default_pose: {e.args[0]}")
+                return
+            reference = reference_state.positions.copy()
+
+        constraints = p.get("constraints")
+        constraint_set = None
+        if constraints is not None and (constraints.joint_constraints or constraints.position_constraints
+                                        or constraints.orientation_constraints):
+            from mtc.planners.constraints import KinematicConstraintSet
+
+            constraint_set = KinematicConstraintSet(model, constraints)
+
+        # 7. IK: the start state first, then random seeds; every distinct candidate is spawned
+        max_solutions = p.get("max_ik_solutions")
+        min_distance = p.get("min_solution_distance")
+        max_attempts = max(1, p.get("max_ik_attempts")) * max(1, max_solutions)
+        if not ignore_collisions:
+            # build the scene's collision set-up now (the candidates' scenes share it), so its
+            # one-time cost is not taken from the IK time budget
+            scene.is_state_colliding(scene.current_state, jmg.name)
+        deadline = time.perf_counter() + float(p.get("timeout"))
+        rng = np.random.default_rng([int(p.get("seed")) & 0xFFFFFFFF, self._consumed])
+        self._consumed += 1
+        idx = np.asarray(jmg.variable_indices, dtype=int)
+        recorded: list[np.ndarray] = []
+        found = 0
+        attempts = 0
+        while found < max_solutions and attempts < max_attempts:
+            if attempts > 0 and time.perf_counter() >= deadline:
+                break
+            q = start_q.copy()
+            if attempts > 0:
+                q[idx] = solver.random_positions(rng)
+                model.enforce_mimic(q)
+            attempts += 1
+            # one descent from q, never cut short by the clock (its result must not depend on speed)
+            solved = solver.solve(link_target, q, timeout=math.inf, random_restarts=False)
+            if not solved:
+                continue
+            q = solved[0]
+            if any(solver.group_distance(q, r) < min_distance for r in recorded):
+                continue  # the same solution again: not recorded
+            recorded.append(q)
+            new_scene = s.start.scene.diff()
+            new_scene.current_state.positions = q
+            state = new_scene.current_state
+            solution = SubTrajectory(None, 0.0, s.comment)
+            solution.markers.extend(markers)
+            if not ignore_collisions and new_scene.is_state_colliding(state, jmg.name):
+                pairs = new_scene.get_collisions(state, jmg.name)
+                solution.cost = math.inf
+                solution.comment = _join(s.comment, f"Collision between {format_collision_pairs(pairs)}")
+            elif constraint_set is not None and not constraint_set.satisfied(state, new_scene):
+                solution.cost = math.inf
+                solution.comment = _join(s.comment, "Constraints violated")
+            else:
+                solution.cost = s.cost + solver.group_distance(q, reference)
+                found += 1
+            new_state = InterfaceState(new_scene)
+            self.forwardProperties(s.start, new_state)
+            self.spawn(new_state, solution)
+
+        # 8. nothing at all
+        if not recorded:
+            self._fail(s, _join(s.comment, "no IK found"), markers=markers)
