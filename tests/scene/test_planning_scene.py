@@ -242,6 +242,21 @@ def test_is_path_valid(scene, panda):
     assert not scene.is_path_valid(bad)
 
 
+def test_robot_without_geometry(toy):
+    """The toy robot has no geometry: nothing collides until an object is attached to it."""
+    ps = PlanningScene(toy)
+    assert ps.planning_frame == "base"
+    ps.apply_collision_object(box("b", (0.0, 0.0, 0.0), frame="base"))
+    assert not ps.is_state_colliding() and ps.get_collisions() == []
+    assert ps.distance_to_collision() == float("inf")
+    assert ps.check_states(np.zeros((2, 3))).tolist() == [True, True]
+    ps.attach_object("b", "tip")
+    ps.apply_collision_object(box("c", (0.0, 0.0, 0.0), frame="base"))
+    assert ps.get_collisions() == [("c", "b")]
+    assert ps.is_state_colliding(group="group")  # the tip, holding b, moves with the group's joints
+    assert ps.distance_to_collision(group="eef_group") < 0
+
+
 # ---------------------------------------------------------------------------- primitives and meshes
 @pytest.mark.parametrize(
     "kind, dims, xyz, expected",
