@@ -521,6 +521,24 @@ def test_close_stops_the_server(shapes_model):
     v.close()  # idempotent
 
 
+def test_dead_server_raises_instead_of_hanging(shapes_model, monkeypatch):
+    """A server that stops answering makes the next command raise ConnectionError within
+    the reply timeout (meshcat's own window would wait forever), and closes the viewer."""
+    monkeypatch.setattr(viewer_module, "_REPLY_TIMEOUT", 0.5)
+    v = Viewer(shapes_model)
+    try:
+        v._proc.kill()
+        v._proc.wait()
+        start = time.monotonic()
+        with pytest.raises(ConnectionError, match="did not answer within|does not take commands"):
+            v.show_state(RobotState(shapes_model))
+        assert time.monotonic() - start < 3.0
+        assert not v.is_open and current_viewer() is not v
+    finally:
+        v.close()
+    assert current_viewer() is not v
+
+
 def test_server_stops_when_its_script_dies():
     """A script killed without cleanup leaves no meshcat server behind."""
     script = textwrap.dedent(

@@ -22,7 +22,6 @@ path gets at given times, computed from the same key frames that :meth:`Viewer.p
 
 from __future__ import annotations
 
-import argparse
 import atexit
 import base64
 import functools
@@ -698,17 +697,13 @@ def _check_local_url(zmq_url: str) -> None:
 
 
 def _start_server() -> tuple[subprocess.Popen, str, str]:
-    """Start ``python -m mtc.viewer`` (meshcat's server, bound to 127.0.0.1) and read the
-    addresses it reports."""
-    src = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    env = dict(os.environ)
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (src, env.get("PYTHONPATH", "")) if p)
+    """Start meshcat's server (bound to 127.0.0.1) in a subprocess and read the addresses
+    it reports."""
     proc = subprocess.Popen(
-        [sys.executable, "-u", "-m", "mtc.viewer", "--parent-pid", str(os.getpid())],
+        [sys.executable, "-u", "-c", _SERVER_SCRIPT, "--parent-pid", str(os.getpid())],
         stdin=subprocess.DEVNULL,
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
-        env=env,
         start_new_session=True,  # a Ctrl-C in the terminal reaches the script, not the server
     )
     out = b""
@@ -779,9 +774,10 @@ class _Connection:
     def closed(self) -> bool:
         return self._socket is None
 
-    def request(self, frames: list[bytes], timeout: float = _REPLY_TIMEOUT) -> bytes:
+    def request(self, frames: list[bytes], timeout: float | None = None) -> bytes:
         if self._socket is None:
             raise ConnectionError("the viewer is closed")
+        timeout = _REPLY_TIMEOUT if timeout is None else timeout
         zmq = self._zmq
         if not self._socket.poll(int(timeout * 1000), zmq.POLLOUT):
             self.close()
@@ -1080,7 +1076,11 @@ class Viewer:
         return f"{ROOT_PATH}/{path}" if path else ROOT_PATH
 
     def _send(self, data: dict) -> None:
-        self._conn.send(data)
+        try:
+            self._conn.send(data)
+        except ConnectionError:
+            self.close()  # a dead viewer must not stay current_viewer()
+            raise
 
     def _send_transform(self, path: str, T: np.ndarray) -> None:
         self._send({"type": "set_transform", "path": self._full(path), "matrix": _matrix_list(T)})
@@ -1216,46 +1216,69 @@ class NullViewer(Viewer):
 # =============================================================================================
 
 
-def _serve(argv: list[str] | None = None) -> None:
-    """Run meshcat's server with its web page bound to 127.0.0.1 (meshcat binds every
-    interface), report both addresses on stdout, then go quiet; stop when the parent dies."""
-    parser = argparse.ArgumentParser(prog="python -m mtc.viewer", description=_serve.__doc__)
-    parser.add_argument("--parent-pid", type=int, default=None, help="stop when this process is gone")
-    parser.add_argument("--zmq-url", default=None, help="command socket address (default: first free from 6000)")
-    args = parser.parse_args(argv)
-    if args.zmq_url is not None:
-        _check_local_url(args.zmq_url)
+# Run with "python -c": the server needs neither mtc nor meshcat's package __init__ (which
+# imports IPython and PIL, seconds on a busy machine), so starting a viewer stays quick.
+_SERVER_SCRIPT = r"""
+import argparse, importlib.util, os, sys, types, warnings
+from urllib.parse import urlparse
 
-    import tornado.ioloop
-    import tornado.web
+parser = argparse.ArgumentParser(
+    prog="python -m mtc.viewer",
+    description="Run a meshcat server on 127.0.0.1 (page and command socket), print its "
+    "addresses, and serve until Ctrl-C (or until --parent-pid exits).",
+)
+parser.add_argument("--parent-pid", type=int, default=None, help="stop when this process is gone")
+parser.add_argument("--zmq-url", default=None, help="command socket (default: tcp://127.0.0.1:6000 or the next free port)")
+args = parser.parse_args()
+if args.zmq_url is not None:
+    url = urlparse(args.zmq_url)
+    if not (url.scheme == "ipc" or (url.scheme == "tcp" and url.hostname in ("127.0.0.1", "localhost", "::1"))):
+        parser.error(f"--zmq-url {args.zmq_url} is not on localhost")
+if "meshcat" not in sys.modules:
+    package = types.ModuleType("meshcat")
+    package.__path__ = list(importlib.util.find_spec("meshcat").submodule_search_locations)
+    sys.modules["meshcat"] = package
+import tornado.ioloop
+import tornado.web
 
-    _import_meshcat()
+with warnings.catch_warnings():
+    warnings.simplefilter("ignore", DeprecationWarning)  # pyzmq's, at meshcat's import
     from meshcat.servers import zmqserver
 
-    listen = tornado.web.Application.listen
+listen = tornado.web.Application.listen
 
-    def listen_on_localhost(self, port, address=None, **kwargs):
-        return listen(self, port, address="127.0.0.1", **kwargs)
 
-    tornado.web.Application.listen = listen_on_localhost
-    bridge = zmqserver.ZMQWebSocketBridge(zmq_url=args.zmq_url, host="127.0.0.1")
-    sys.stdout.write(f"zmq_url={bridge.zmq_url}\nweb_url={bridge.web_url}\n")
-    sys.stdout.flush()
+def listen_on_localhost(self, port, address=None, **kwargs):
+    # meshcat serves its page on every interface; here only this machine can reach it
+    return listen(self, port, address="127.0.0.1", **kwargs)
+
+
+tornado.web.Application.listen = listen_on_localhost
+bridge = zmqserver.ZMQWebSocketBridge(zmq_url=args.zmq_url, host="127.0.0.1")
+sys.stdout.write(f"zmq_url={bridge.zmq_url}\nweb_url={bridge.web_url}\n")
+sys.stdout.flush()
+if args.parent_pid:
+    # quiet from here on: nobody reads the pipes any more
     devnull = os.open(os.devnull, os.O_WRONLY)
     os.dup2(devnull, 1)
     os.dup2(devnull, 2)
-    if args.parent_pid:
-        parent = args.parent_pid
 
-        def stop_when_orphaned():
-            if os.getppid() != parent:
-                bridge.ioloop.stop()
+    def stop_when_orphaned():
+        if os.getppid() != args.parent_pid:
+            bridge.ioloop.stop()
 
-        tornado.ioloop.PeriodicCallback(stop_when_orphaned, 500).start()
-    try:
-        bridge.run()
-    except KeyboardInterrupt:  # a standalone server (python -m mtc.viewer) ends with Ctrl-C
-        pass
+    tornado.ioloop.PeriodicCallback(stop_when_orphaned, 500).start()
+try:
+    bridge.run()
+except KeyboardInterrupt:
+    pass
+"""
+
+
+def _serve() -> None:
+    """``python -m mtc.viewer``: a standalone localhost server that viewers can share
+    (``Viewer(model, zmq_url=...)``), so a browser tab survives between script runs."""
+    exec(compile(_SERVER_SCRIPT, "<mtc.viewer server>", "exec"), {"__name__": "__main__"})
 
 
 if __name__ == "__main__":
