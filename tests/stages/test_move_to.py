@@ -424,5 +424,8 @@ def test_pose_goal_markers(make_task, start_scene, move):
     markers = {m["name"]: m for m in move.solutions[0].markers}
     assert set(markers) == {"target frame", "ik frame"}
     assert markers["target frame"]["ns"] == "move"
-    assert markers["target frame"]["pose"] == pytest.approx(msgs.pose_to_matrix(pose.pose))
-    assert markers["ik frame"]["pose"] == pytest.approx(start_scene.current_state.get_global_link_transform("panda_link8"))
+    target = markers["target frame"]["pose"]
+    assert target.header.frame_id == "world"
+    assert msgs.pose_to_matrix(target.pose) == pytest.approx(msgs.pose_to_matrix(pose.pose))
+    ik = markers["ik frame"]["pose"]
+    assert msgs.pose_to_matrix(ik.pose) == pytest.approx(start_scene.current_state.get_global_link_transform("panda_link8"))

@@ -13,8 +13,8 @@ need the same conversions, so they live here once:
   (:func:`check_direction`, :func:`joint_deltas`).
 * Collision pairs in comments: ``"a - b, c - d"`` (:func:`format_collision_pairs`).
 * Markers on solutions (:func:`frame_marker`, :func:`arrow_marker`): ``mtc`` has no ROS marker
-  message, so a marker is a plain dict ``{"type": "frame"|"arrow", "ns", "name", ...}`` with
-  poses and points in the planning frame, for viewers and introspection.
+  message, so a marker is a plain dict ``{"type": "frame"|"arrow", "ns", "name", ...}``, for
+  viewers and introspection.
 
 Errors are exceptions here; each stage turns them into its own failure comment or init error.
 """
@@ -395,10 +395,19 @@ def format_collision_pairs(pairs: Iterable) -> str:
     return ", ".join(f"{p[0]} - {p[1]}" for p in pairs)
 
 
-def frame_marker(ns: str, name: str, pose: np.ndarray, frame_id: str = "world", scale: float = 0.1) -> dict:
-    """A coordinate-frame marker (MTC's ``appendFrame``): ``pose`` 4x4 in ``frame_id``, axes ``scale`` [m] long."""
-    return {"type": "frame", "ns": ns, "name": name, "frame_id": frame_id, "pose": np.array(pose, dtype=float),
-            "scale": float(scale)}
+def frame_marker(ns: str, name: str, pose, frame_id: str = "world", size: float = 0.1) -> dict:
+    """A coordinate-frame marker (MTC's ``appendFrame``), in the same form as GeneratePose's:
+    ``{"type": "frame", "ns", "name", "pose": msgs.PoseStamped, "size"}``.
+
+    Args:
+        pose: ``msgs.PoseStamped``, or a 4x4 pose in ``frame_id``.
+        size: Axis length [m].
+    """
+    if not isinstance(pose, msgs.PoseStamped):
+        pose = msgs.PoseStamped(header=msgs.Header(frame_id=frame_id), pose=msgs.matrix_to_pose(pose))
+    else:
+        pose = msgs.from_dict(msgs.PoseStamped, msgs.to_dict(pose))
+    return {"type": "frame", "ns": ns, "name": name, "pose": pose, "size": float(size)}
 
 
 def arrow_marker(ns: str, name: str, start, end, color: str = "green", frame_id: str = "world") -> dict:
