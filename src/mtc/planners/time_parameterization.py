@@ -374,13 +374,14 @@ def synchronized_ptp(
     start: np.ndarray, goal: np.ndarray, vmax: np.ndarray, amax: np.ndarray, dmax: np.ndarray | None = None
 ):
     """A time-optimal rest-to-rest motion on the straight line from ``start`` to ``goal`` with
-    trapezoidal velocity profiles that all joints share (phase-synchronized, as Pilz's PTP).
+    trapezoidal velocity profiles that all joints share (fully synchronized, as Pilz's PTP):
+    ``q(t) = start + σ(t) (goal - start)`` with one trapezoid ``σ(t)`` from 0 to 1 whose speed and
+    acceleration are the largest every joint allows.
 
     Args:
         start, goal: positions.
         vmax, amax: velocity and acceleration limits (positive).
-        dmax: deceleration limits (positive; default ``amax``). Ruckig's ``min_acceleration``
-            is ``-dmax``, which is the braking side for motions in the positive direction.
+        dmax: deceleration limits (positive; default ``amax``).
 
     Returns:
         ``(duration, sample)`` where ``sample(t) -> (positions, velocities, accelerations)``.
@@ -388,44 +389,53 @@ def synchronized_ptp(
     start = np.asarray(start, dtype=float)
     goal = np.asarray(goal, dtype=float)
     n = len(start)
-    if n == 0 or np.allclose(start, goal, atol=1e-12, rtol=0):
+    delta = goal - start
+    moving = np.abs(delta) > 1e-12
+    if n == 0 or not moving.any():
         return 0.0, lambda t: (goal.copy(), np.zeros(n), np.zeros(n))
-    otg = ruckig.Ruckig(n)
-    inp = ruckig.InputParameter(n)
-    inp.current_position = start.tolist()
-    inp.target_position = goal.tolist()
-    inp.max_velocity = np.asarray(vmax, dtype=float).tolist()
-    inp.max_acceleration = np.asarray(amax, dtype=float).tolist()
-    if dmax is not None:
-        inp.min_acceleration = (-np.asarray(dmax, dtype=float)).tolist()
-    inp.max_jerk = [math.inf] * n  # infinite jerk: trapezoidal velocity profiles
-    inp.synchronization = ruckig.Synchronization.Phase
-    traj = ruckig.Trajectory(n)
-    result = otg.calculate(inp, traj)
-    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
-        raise RuntimeError(f"ruckig could not compute the PTP motion: {result}")
+    span = np.abs(delta[moving])
+    dmax = amax if dmax is None else dmax
+    v_s = float(np.min(np.asarray(vmax, dtype=float)[moving] / span))
+    a_s = float(np.min(np.asarray(amax, dtype=float)[moving] / span))
+    d_s = float(np.min(np.asarray(dmax, dtype=float)[moving] / span))
+    duration, profile = trapezoid_profile(1.0, v_s, a_s, d_s)
 
     def sample(t: float):
-        p, v, a = traj.at_time(min(max(float(t), 0.0), traj.duration))
-        return np.array(p), np.array(v), np.array(a)
+        s, sd, sdd = profile(t)
+        return start + s * delta, sd * delta, sdd * delta
 
-    return float(traj.duration), sample
+    return duration, sample
+
+
+def _ruckig_rest_to_rest(length: float, vmax: float, amax: float, dmax: float):
+    """One axis from 0 to ``length`` at rest, with unlimited jerk (a trapezoidal profile)."""
+    otg = ruckig.Ruckig(1)
+    inp = ruckig.InputParameter(1)
+    inp.current_position = [0.0]
+    inp.target_position = [float(length)]
+    inp.max_velocity = [float(vmax)]
+    inp.max_acceleration = [float(amax)]
+    inp.min_acceleration = [-float(dmax)]
+    inp.max_jerk = [math.inf]  # infinite jerk: trapezoidal velocity profile
+    traj = ruckig.Trajectory(1)
+    result = otg.calculate(inp, traj)
+    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
+        raise RuntimeError(f"ruckig could not compute the profile: {result}")
+    return traj
 
 
 def trapezoid_profile(length: float, vmax: float, amax: float, dmax: float | None = None):
     """Rest-to-rest motion over ``length`` (> 0) with a trapezoidal speed profile: accelerate
-    with ``amax``, cruise at ``vmax``, brake with ``dmax`` (default ``amax``).
+    with ``amax``, cruise at ``vmax``, brake with ``dmax`` (default ``amax``); by ruckig.
 
     Returns:
         ``(duration, sample)`` with ``sample(t) -> (s, ṡ, s̈)``.
     """
-    duration, sample = synchronized_ptp(
-        np.zeros(1), np.array([float(length)]), np.array([vmax]), np.array([amax]),
-        None if dmax is None else np.array([dmax]),
-    )
+    traj = _ruckig_rest_to_rest(length, vmax, amax, amax if dmax is None else dmax)
+    duration = float(traj.duration)
 
-    def scalar(t: float):
-        p, v, a = sample(t)
+    def sample(t: float):
+        p, v, a = traj.at_time(min(max(float(t), 0.0), duration))
         return float(p[0]), float(v[0]), float(a[0])
 
-    return duration, scalar
+    return duration, sample

@@ -1,0 +1,221 @@
+"""Tests of mtc.planners.time_parameterization: limits at every waypoint, optimality, speed."""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+
+import numpy as np
+import pytest
+
+from mtc.planners.time_parameterization import (
+    TimeOptimalTrajectoryGeneration,
+    limit_cartesian_speed,
+    synchronized_ptp,
+    time_parameterize,
+    trapezoid_profile,
+)
+from mtc.scene.robot_model import RobotModel
+from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+
+def _ready(panda) -> RobotState:
+    state = RobotState(panda)
+    state.set_to_default_values("panda_arm", "ready")
+    return state
+
+
+def _curved_path(panda, rng, n=50) -> RobotTrajectory:
+    """A smooth curved joint-space path through three random arm states."""
+    qs = []
+    for _ in range(3):
+        s = RobotState(panda)
+        s.set_to_random_positions("panda_arm", rng)
+        qs.append(s.get_joint_group_positions("panda_arm"))
+    t = np.linspace(0, 1, n)[:, None]
+    P = (1 - t) ** 2 * qs[0] + 2 * t * (1 - t) * qs[1] + t**2 * qs[2]
+    return RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), P)
+
+
+def _limits(panda, vs, acs):
+    idx = panda.get_joint_model_group("panda_arm").variable_indices
+    return panda.velocity_limits[idx] * vs, panda.acceleration_limits[idx] * acs
+
+
+@pytest.mark.parametrize("vs, acs", [(1.0, 1.0), (0.5, 0.3), (0.1, 0.1)])
+def test_no_waypoint_exceeds_a_scaled_limit(panda, vs, acs):
+    """Velocities and accelerations at every waypoint stay within the scaled limits."""
+    rng = np.random.default_rng(0)
+    vmax, amax = _limits(panda, vs, acs)
+    for _ in range(10):
+        traj = time_parameterize(_curved_path(panda, rng), vs, acs)
+        assert np.all(np.abs(traj.velocities) <= vmax * (1 + 1e-9))
+        assert np.all(np.abs(traj.accelerations) <= amax * (1 + 1e-9))
+        # between waypoints the timing follows the spline on a grid: mean velocities and
+        # accelerations over a segment may exceed the limits by the discretization (< 0.2 %, < 5 %)
+        dt = np.diff(traj.times)
+        assert np.all(dt > 0)
+        fd_v = np.abs(np.diff(traj.positions, axis=0)) / dt[:, None]
+        fd_a = np.abs(np.diff(traj.velocities, axis=0)) / dt[:, None]
+        assert np.all(fd_v <= vmax * 1.005)
+        assert np.all(fd_a <= amax * 1.05)
+
+
+def test_time_optimal_touches_a_limit(panda):
+    """Time-optimal: at almost every waypoint some limit is active (all but switching points)."""
+    traj = time_parameterize(_curved_path(panda, np.random.default_rng(1)))
+    vmax, amax = _limits(panda, 1.0, 1.0)
+    ratio = np.maximum(np.abs(traj.velocities) / vmax, np.abs(traj.accelerations) / amax).max(axis=1)
+    assert np.mean(ratio[1:-1] > 0.99) >= 0.9
+
+
+def test_starts_and_ends_at_rest_positions_kept(panda):
+    """The path starts and ends with zero velocity, and its waypoints are not moved."""
+    traj = _curved_path(panda, np.random.default_rng(2))
+    before = traj.positions.copy()
+    time_parameterize(traj)
+    assert np.array_equal(traj.positions, before)
+    assert np.allclose(traj.velocities[0], 0) and np.allclose(traj.velocities[-1], 0)
+    assert traj.times[0] == 0.0 and traj.duration > 0
+
+
+@pytest.mark.parametrize("distance", [0.2, 2.0])
+def test_straight_line_matches_the_trapezoid(panda, distance):
+    """Two waypoints moving joint 1: the duration is the bang-bang/trapezoid optimum."""
+    start = _ready(panda).get_joint_group_positions("panda_arm")
+    goal = start.copy()
+    goal[0] += distance
+    traj = RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), np.array([start, goal]))
+    time_parameterize(traj)
+    v, a = panda.velocity_limits[0], panda.acceleration_limits[0]
+    if distance >= v * v / a:
+        expected = distance / v + v / a
+    else:
+        expected = 2 * math.sqrt(distance / a)
+    assert traj.duration == pytest.approx(expected, rel=1e-3)
+
+
+def test_scaling_slows_down(panda):
+    """Halving the velocity limits of a velocity-bound motion roughly doubles its duration."""
+    traj = _curved_path(panda, np.random.default_rng(3))
+    fast = time_parameterize(traj.copy()).duration
+    slow = time_parameterize(traj.copy(), 0.5, 1.0).duration
+    slower = time_parameterize(traj.copy(), 0.5, 0.25).duration
+    assert fast < slow < slower
+    assert slow == pytest.approx(2 * fast, rel=0.2)
+
+
+def test_fifty_waypoints_under_five_milliseconds(panda):
+    """A 50-waypoint path is timed in under 5 ms (median of 20)."""
+    rng = np.random.default_rng(4)
+    paths = [_curved_path(panda, rng) for _ in range(20)]
+    durations = []
+    for traj in paths:
+        t0 = time.perf_counter()
+        time_parameterize(traj)
+        durations.append(time.perf_counter() - t0)
+    assert np.median(durations) < 5e-3
+
+
+def test_repeated_waypoints_share_a_time(panda):
+    """A waypoint repeated without motion gets its predecessor's time; one waypoint gets time 0."""
+    traj = _curved_path(panda, np.random.default_rng(5), n=10)
+    traj.waypoints.insert(5, traj.waypoints[4].copy())
+    traj._durations.insert(5, 0.0)
+    time_parameterize(traj)
+    assert traj.times[5] == traj.times[4]
+    assert np.all(np.diff(traj.times) >= 0)
+    single = RobotTrajectory(panda, "panda_arm")
+    single.add_suffix_waypoint(_ready(panda))
+    time_parameterize(single)
+    assert single.times.tolist() == [0.0] and single.duration == 0.0
+
+
+def test_continuous_joints_take_the_short_way(toy_robot):
+    """A continuous joint crossing +-pi is timed along the short wrapped path."""
+    ref = RobotState(toy_robot)
+    P = np.array([[3.0, 0.0], [3.1, 0.0], [-3.1, 0.0], [-3.0, 0.0]])
+    traj = RobotTrajectory.from_positions(toy_robot, "group", ref, P)
+    time_parameterize(traj)
+    # 0.283 rad in total, not 6 rad: with 1 rad/s and 3 rad/s^2 that is well under a second
+    assert traj.duration < 1.0
+    assert np.all(np.abs(traj.velocities) <= 1.0 + 1e-9)
+
+
+def test_cartesian_speed_limit(panda):
+    """limit_cartesian_speed keeps the link's speed at every waypoint under the limit."""
+    traj = _curved_path(panda, np.random.default_rng(6))
+    unlimited = time_parameterize(traj.copy())
+    limited = limit_cartesian_speed(traj, 0.1, "panda_hand")
+    assert limited.duration > unlimited.duration
+    idx = panda.get_joint_model_group("panda_arm").variable_indices
+    for k, state in enumerate(limited.waypoints):
+        J = state.get_jacobian("panda_arm", "panda_hand")
+        assert np.linalg.norm(J[:3] @ limited.velocities[k]) <= 0.1 * 1.02
+    P = np.array([s.get_global_link_transform("panda_hand")[:3, 3] for s in limited.waypoints])
+    speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(limited.times)
+    assert speed.max() <= 0.1 * 1.02
+    assert speed.max() >= 0.09  # and it does go that fast
+    vmax, amax = _limits(panda, 1.0, 1.0)
+    assert np.all(np.abs(limited.velocities) <= vmax * (1 + 1e-9))
+    assert np.all(np.abs(limited.accelerations) <= amax * (1 + 1e-9))
+    assert np.all(idx == np.arange(7))
+
+
+def test_totg_class(panda):
+    """TimeOptimalTrajectoryGeneration.computeTimeStamps times in place and reports success."""
+    traj = _curved_path(panda, np.random.default_rng(7))
+    assert TimeOptimalTrajectoryGeneration().computeTimeStamps(traj, 0.5, 0.5)
+    assert traj.duration > 0 and traj.velocities.shape == (50, 7)
+    with pytest.raises(ValueError, match="grid_points must be at least 1"):
+        TimeOptimalTrajectoryGeneration(0)
+
+
+def test_bad_arguments(panda):
+    """Scaling factors outside (0, 1] and a Cartesian limit without a link raise ValueError."""
+    traj = _curved_path(panda, np.random.default_rng(8), n=5)
+    with pytest.raises(ValueError, match=r"max_velocity_scaling_factor must be in \(0, 1\], got 0"):
+        time_parameterize(traj, 0.0)
+    with pytest.raises(ValueError, match=r"max_acceleration_scaling_factor must be in \(0, 1\], got 1.5"):
+        time_parameterize(traj, 1.0, 1.5)
+    with pytest.raises(ValueError, match="needs a cartesian_speed_limited_link"):
+        time_parameterize(traj, max_cartesian_speed=0.2)
+    with pytest.raises(ValueError, match="max_speed must be positive"):
+        limit_cartesian_speed(traj, 0.0, "panda_hand")
+    with pytest.raises(KeyError, match="unknown frame 'nowhere'"):
+        limit_cartesian_speed(traj, 0.1, "nowhere")
+
+
+def test_synchronized_ptp_is_a_shared_trapezoid():
+    """All joints start, switch and stop together, on the straight line, within their limits."""
+    start = np.array([0.0, 1.0, -0.5])
+    goal = np.array([1.0, 0.5, 0.5])
+    vmax = np.array([1.0, 2.0, 0.5])
+    amax = np.array([2.0, 1.0, 3.0])
+    duration, sample = synchronized_ptp(start, goal, vmax, amax)
+    delta = goal - start
+    for t in np.linspace(0, duration, 41):
+        p, v, a = sample(t)
+        s = (p - start) / delta  # the same fraction for all joints: a straight line
+        assert np.allclose(s, s[0], atol=1e-9)
+        assert np.all(np.abs(v) <= vmax + 1e-9) and np.all(np.abs(a) <= amax + 1e-9)
+    assert np.allclose(sample(duration)[0], goal)
+    # the shared profile of the fraction s: speed min(v/|delta|) = 0.5, acceleration min(a/|delta|) = 2
+    assert duration == pytest.approx(1 / 0.5 + 0.5 / 2.0, rel=1e-6)
+    assert np.max(np.abs(sample(duration / 2)[1]) / vmax) == pytest.approx(1.0)  # joint 3 at its limit
+
+
+def test_trapezoid_profile_with_deceleration():
+    """Accelerate, cruise and brake with different rates over a given length."""
+    duration, f = trapezoid_profile(1.0, 0.5, 2.25, 5.0)
+    assert duration == pytest.approx(0.5 / 2.25 + 0.5 / 5.0 + (1 - 0.5**2 / 4.5 - 0.5**2 / 10) / 0.5)
+    assert f(0.0)[0] == 0.0 and f(duration)[0] == pytest.approx(1.0)
+    assert f(duration / 2)[1] == pytest.approx(0.5)
+
+
+@pytest.fixture(scope="module")
+def toy_robot():
+    data = os.path.join(os.path.dirname(__file__), "..", "data")
+    return RobotModel(os.path.join(data, "toy_robot.urdf"), os.path.join(data, "toy_robot.srdf"))
