@@ -105,6 +105,18 @@ def process_alive(pid: int) -> bool:
 
 
 # ----------------------------------------------------------------------------- fixtures
+@pytest.fixture(autouse=True)
+def _viewer_enabled(monkeypatch):
+    """These tests need real viewers even where MTC_NO_VIEWER is set for the whole run."""
+    monkeypatch.delenv("MTC_NO_VIEWER", raising=False)
+
+
+def real_viewer(model, **kwargs) -> Viewer:
+    with pytest.MonkeyPatch.context() as mp:  # module-scoped fixtures run outside _viewer_enabled
+        mp.delenv("MTC_NO_VIEWER", raising=False)
+        return Viewer(model, **kwargs)
+
+
 TOY_URDF = """
 <robot name="shapes">
   <material name="red"><color rgba="1 0 0 1"/></material>
@@ -159,7 +171,7 @@ def shapes_model(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def shapes_viewer(shapes_model):
-    v = Viewer(shapes_model)
+    v = real_viewer(shapes_model)
     yield v
     proc = v._proc
     v.close()
@@ -168,7 +180,7 @@ def shapes_viewer(shapes_model):
 
 @pytest.fixture(scope="module")
 def panda_viewer():
-    v = Viewer(panda())
+    v = real_viewer(panda())
     yield v
     proc = v._proc
     v.close()
@@ -457,6 +469,30 @@ def test_objects_appear_and_vanish_with_their_scenes():
     bottle = anim.tracks["objects/bottle"]
     # held hidden until the step at 1 s, then shown to the end
     assert bottle.visible.tolist() == [False, False, True, True] and bottle.times.tolist() == [0.0, 1.0, 1.0, 2.0]
+
+
+def test_object_removed_at_the_end_stays_hidden_until_shown_again(shapes_viewer, shapes_model):
+    """An object gone from the last scene of a plan is hidden on the page afterwards; a
+    later show_scene with it shows it again. Visibility is sent only when it changes."""
+    s0 = PlanningScene(shapes_model)
+    add_object(s0, "crate", msgs.SolidPrimitive.BOX, [0.1, 0.1, 0.1], pose((0.4, 0, 0)))
+    s1 = s0.diff()
+    s1.apply_collision_object(msgs.CollisionObject(id="crate", operation=msgs.CollisionObject.REMOVE))
+    start = s0.current_state
+    end = start.copy()
+    end.joint_positions = {"j": 1.0}
+    traj = RobotTrajectory.from_positions(shapes_model, "", start, np.array([[0.0], [1.0]]), np.array([0.0, 0.5]))
+    s1.current_state = end
+    shapes_viewer.show_scene(s0)
+    shapes_viewer.play([(traj, s0, s0), (None, s0, s1)])
+    path = f"{ROOT_PATH}/objects/crate"
+    assert server_tree(shapes_viewer)[path]["properties"] == {"visible": False}
+    for _ in range(3):
+        shapes_viewer.show_scene(s0)
+    html = shapes_viewer.static_html()
+    sent = [umsgpack.unpackb(base64.b64decode(b)) for b in _COMMAND.findall(html)]
+    visibility = [c["value"] for c in sent if c["type"] == "set_property" and c["path"] == path]
+    assert visibility == [False, True]
 
 
 def test_untimed_trajectory_plays_at_a_nominal_pace():

@@ -885,6 +885,9 @@ class Viewer:
         self._links = _visual_links(robot_model)
         self._nodes = _ObjectNodes()
         self._drawn: set[str] = set()  # object node paths with geometry on the server
+        # hidden object nodes: visibility is sent only when it changes, as the server keeps
+        # every set_property it gets (and replays them all to each new page)
+        self._hidden: set[str] = set()
         self._scene: PlanningScene | None = None  # what show_scene / play showed last
         self._state = RobotState(robot_model)
         self._animation_loaded = False
@@ -1086,7 +1089,13 @@ class Viewer:
         self._send({"type": "set_transform", "path": self._full(path), "matrix": _matrix_list(T)})
 
     def _send_visible(self, path: str, visible: bool) -> None:
+        if visible != (path in self._hidden):
+            return
         self._send({"type": "set_property", "path": self._full(path), "property": "visible", "value": bool(visible)})
+        if visible:
+            self._hidden.discard(path)
+        else:
+            self._hidden.add(path)
 
     def _send_object(self, path: str, obj: dict) -> None:
         self._send({"type": "set_object", "path": self._full(path), "object": obj})
@@ -1126,6 +1135,7 @@ class Viewer:
         for path in sorted(paths):
             self._send_delete(path)
             self._drawn.discard(path)
+            self._hidden.discard(path)
 
     def _stop_animation(self) -> None:
         # a loaded animation would snap nodes back when the page's time slider moves
