@@ -2,10 +2,56 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from mtc import msgs
 from mtc.msgs import CollisionObject, Header, Point, Pose, Quaternion, SolidPrimitive
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+TOY_URDF = DATA / "toy_robot.urdf"
+TOY_SRDF = DATA / "toy_robot.srdf"
+
+#: A robot whose only geometry is a 0.1 m cube on a prismatic joint along x (limits +-1 m),
+#: and a 0.02 x 0.02 x 0.2 m rod on a revolute joint about z at the cube's centre, so that
+#: distances to primitives can be computed by hand.
+CUBE_URDF = """<?xml version="1.0"?>
+<robot name="cube_robot">
+  <link name="base"/>
+  <link name="cube">
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+  </link>
+  <link name="rod">
+    <collision>
+      <origin xyz="0 0 0.15"/>
+      <geometry><box size="0.02 0.02 0.2"/></geometry>
+    </collision>
+  </link>
+  <joint name="slide" type="prismatic">
+    <parent link="base"/>
+    <child link="cube"/>
+    <axis xyz="1 0 0"/>
+    <limit lower="-1" upper="1" velocity="0.5" effort="10"/>
+  </joint>
+  <joint name="turn" type="revolute">
+    <parent link="cube"/>
+    <child link="rod"/>
+    <axis xyz="0 0 1"/>
+    <limit lower="-3" upper="3" velocity="2" effort="10"/>
+  </joint>
+</robot>
+"""
+
+CUBE_SRDF = """<?xml version="1.0"?>
+<robot name="cube_robot">
+  <virtual_joint name="vj" type="fixed" parent_frame="world" child_link="base"/>
+  <group name="slider"><joint name="slide"/></group>
+  <group name="rod"><joint name="turn"/></group>
+  <group name="all"><group name="slider"/><group name="rod"/></group>
+  <disable_collisions link1="cube" link2="rod" reason="Adjacent"/>
+</robot>
+"""
 
 #: ready + open: the hand points down, panda_hand's origin at about (0.307, 0, 0.59)
 HAND_XYZ = (0.307, 0.0, 0.59)

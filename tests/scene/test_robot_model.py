@@ -182,7 +182,7 @@ def test_without_srdf_there_are_no_groups():
 
 def test_joint_limits_override(toy):
     """joint_limits overrides velocity and acceleration per joint."""
-    from conftest import TOY_SRDF, TOY_URDF
+    from scene_helpers import TOY_SRDF, TOY_URDF
 
     model = RobotModel(str(TOY_URDF), str(TOY_SRDF), joint_limits={"link1-link2-joint": {"max_velocity": 2.5, "max_acceleration": 7.0}})
     assert model.velocity_limits.tolist() == [1.0, 2.5, 1.0]
@@ -193,7 +193,7 @@ def test_joint_limits_override(toy):
 
 def test_every_srdf_element_resolves(toy):
     """Groups from joints, links, chains and subgroups; passive joints are not active; default-collision entries."""
-    from conftest import TOY_URDF
+    from scene_helpers import TOY_URDF
 
     srdf = """<robot name="robot">
       <virtual_joint name="vj" type="fixed" parent_frame="map" child_link="base"/>
@@ -443,7 +443,7 @@ TOY_GROUP = '<group name="g"><chain base_link="base" tip_link="link2"/></group>'
 )
 def test_srdf_names_missing_from_the_urdf(srdf_body, words):
     """An SRDF naming what the URDF lacks raises DescriptionError naming the item (and what exists)."""
-    from conftest import TOY_URDF
+    from scene_helpers import TOY_URDF
 
     with pytest.raises(DescriptionError) as e:
         RobotModel(str(TOY_URDF), f'<robot name="robot">{srdf_body}</robot>')
@@ -455,7 +455,7 @@ def test_srdf_names_missing_from_the_urdf(srdf_body, words):
 
 def test_missing_srdf_file(tmp_path):
     """A missing SRDF file names the path."""
-    from conftest import TOY_URDF
+    from scene_helpers import TOY_URDF
 
     with pytest.raises(DescriptionError, match="SRDF file not found.*none.srdf"):
         RobotModel(str(TOY_URDF), str(tmp_path / "none.srdf"))
@@ -463,7 +463,7 @@ def test_missing_srdf_file(tmp_path):
 
 def test_unknown_links_in_disabled_pairs_are_ignored(caplog):
     """A disable_collisions pair of links the URDF lacks is dropped with a warning (as MoveIt)."""
-    from conftest import TOY_URDF
+    from scene_helpers import TOY_URDF
 
     srdf = '<robot name="robot"><disable_collisions link1="base" link2="ghost"/></robot>'
     with caplog.at_level("WARNING"):

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from conftest import TOY_URDF
+from scene_helpers import TOY_URDF
 
 from mtc import msgs
 from mtc.robots import panda_urdf_path
