@@ -239,3 +239,44 @@ def test_overlapping_groups_disable_merging(make_task, ready_scene, caplog):
     assert task.plan()
     assert "Disabling merging" in caplog.text
     assert isinstance(c.solutions[0], core.SolutionSequence)
+
+
+# ------------------------------------------------------------------------------ sampling planner
+def test_ompl_connects_around_an_obstacle(make_task, ready_scene, box):
+    """With PipelinePlanner (OMPL RRTConnect) Connect finds a collision-free way around a box
+    that blocks the straight joint-space line."""
+    start = ready_scene.diff()
+    start.apply_collision_object(box("wall", (0.32, 0.0, 0.96), size=(0.1, 0.1, 0.1)))
+    end = goal_scene(start)
+    planner = core.PipelinePlanner()
+    planner.planner = "RRTConnectkConfigDefault"
+    c = stages.Connect("connect", [("panda_arm", planner)])
+    c.timeout = 2.0
+    task = make_task(stages.FixedState("start", start), c, stages.FixedState("end", end))
+    assert task.plan()
+    traj = c.solutions[0].trajectory
+    assert start.is_path_valid(traj)
+    assert traj[len(traj) - 1].distance(end.current_state, "panda_arm") <= c.max_distance
+
+
+def test_seed_connect_with_path_constraints(make_task, ready_scene):
+    """The seed's Connect snippet: OMPL with an orientation path constraint on the hand."""
+    oc = msgs.OrientationConstraint(
+        header=msgs.Header(frame_id="world"), link_name="panda_hand",
+        orientation=msgs.matrix_to_quaternion(ready_scene.current_state.get_global_link_transform("panda_hand")[:3, :3]),
+        absolute_x_axis_tolerance=0.3, absolute_y_axis_tolerance=0.3, absolute_z_axis_tolerance=3.14, weight=1.0,
+    )
+    constraints = msgs.Constraints(name="upright", orientation_constraints=[oc])
+    end = ready_scene.diff()
+    end.current_state.set_joint_group_positions("panda_arm", [0.5, -0.6, 0.0, -2.2, 0.0, 1.6, 1.285])
+    pipeline = core.PipelinePlanner()
+    pipeline.planner = "RRTConnectkConfigDefault"
+    c = stages.Connect("transit", [("panda_arm", pipeline)])
+    c.path_constraints = constraints
+    c.timeout = 3.0
+    task = make_task(stages.FixedState("start", ready_scene), c, stages.FixedState("end", end))
+    assert task.plan(), [f.comment for f in c.failures]
+    from mtc.planners.constraints import KinematicConstraintSet
+
+    kcs = KinematicConstraintSet(ready_scene.robot_model, constraints)
+    assert all(kcs.satisfied(wp, ready_scene) for wp in c.solutions[0].trajectory.waypoints)

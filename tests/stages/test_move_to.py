@@ -429,3 +429,49 @@ def test_pose_goal_markers(make_task, start_scene, move):
     assert msgs.pose_to_matrix(target.pose) == pytest.approx(msgs.pose_to_matrix(pose.pose))
     ik = markers["ik frame"]["pose"]
     assert msgs.pose_to_matrix(ik.pose) == pytest.approx(start_scene.current_state.get_global_link_transform("panda_link8"))
+
+
+def test_seed_planners_demo(make_task):
+    """The seed's planner snippet: CartesianPath to 'ready', then MultiPlanner(Pilz PTP, OMPL) to 'extended'."""
+    ompl = core.PipelinePlanner("ompl")
+    ompl.planner = "RRTConnectkConfigDefault"
+    pilz = core.PipelinePlanner("pilz_industrial_motion_planner")
+    pilz.planner = "PTP"
+    cart = core.CartesianPath()
+    cart.max_cartesian_speed = 0.2
+    cart.cartesian_speed_limited_link = "panda_hand"
+    cart.setStepSize(0.01)
+    cart.setMinFraction(0.9)
+    multi = core.MultiPlanner()
+    multi.add(pilz, ompl)
+    m1 = stages.MoveTo("cart move", cart)
+    m1.group = "panda_arm"
+    m1.setGoal("ready")
+    m2 = stages.MoveTo("multi move", multi)
+    m2.group = "panda_arm"
+    m2.setGoal("extended")
+    task = make_task(stages.CurrentState("start"), m1, m2)
+    assert task.plan()
+    end = task.solutions[0].end.scene.current_state
+    assert end.get_joint_group_positions("panda_arm") == pytest.approx(
+        mtc_named("extended"), abs=1e-3
+    )
+
+
+def test_fallbacks_demo(make_task):
+    """The seed's Fallbacks snippet: CartesianPath first, JointInterpolation as fallback, to 'extended'."""
+    fallbacks = core.Fallbacks("Fallbacks")
+    for name, planner in (("Cartesian", core.CartesianPath()), ("joint", JointInterpolationPlanner())):
+        m = stages.MoveTo(f"Move To Goal ({name})", planner)
+        m.group = "panda_arm"
+        m.setGoal("extended")
+        fallbacks.insert(m)
+    task = make_task(stages.CurrentState("current"), fallbacks)
+    assert task.plan()
+    assert len(task.solutions) == 1
+
+
+def mtc_named(name: str):
+    from mtc.robots import panda
+
+    return list(panda().get_group_state("panda_arm", name).values())
