@@ -1,0 +1,1063 @@
+"""The "ompl" planning pipeline: OMPL's geometric planners on a planning scene.
+
+This is the only module that imports ``ompl``. :class:`OMPLPipeline` answers MoveIt-style
+motion plan requests (a joint goal or a pose goal, path constraints, a time budget, a number
+of attempts) with a geometric :class:`~mtc.scene.robot_trajectory.RobotTrajectory`: simplified,
+interpolated, collision-free at the checking resolution and inside the path constraints at
+every waypoint. Time parameterization is the caller's business (``PipelinePlanner``).
+
+How a request is answered (MoveIt's ``ompl_interface`` with its default request adapters):
+
+1. The start state is checked: variables slightly outside their bounds (up to
+   :data:`START_STATE_MAX_BOUNDS_ERROR`) are moved onto them, as MoveIt's
+   ``FixStartStateBounds`` does, and the original start becomes the first waypoint; farther
+   out is ``START_STATE_INVALID``. A start in collision or violating the path constraints
+   fails with the colliding bodies or the violated constraint in the message.
+2. The goal is checked the same way (``GOAL_STATE_INVALID``, ``GOAL_IN_COLLISION``,
+   ``GOAL_VIOLATES_PATH_CONSTRAINTS``). Pose goals are turned into goal states by inverse
+   kinematics (several distinct, valid solutions; the planner may reach any of them).
+3. The straight joint-space segment is tried first; a free one is the answer.
+4. Otherwise OMPL's planner searches the group's joint space. Motions are validated by
+   :class:`_EdgeChecker`: states interpolated in numpy along the edge, at most
+   :data:`DEFAULT_RESOLUTION` rad apart in every joint, checked end first and then by
+   bisection (so a blocked edge is usually found out after a few checks), with Pinocchio's
+   broad-phase collision check and the path constraints. Start and goal are exact; the goal
+   tolerance only admits goals already that close.
+5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
+   points on the path) under a time cap (:data:`SIMPLIFY_TIME_FRACTION` of the planning time,
+   at least :data:`MIN_SIMPLIFY_TIME`), then interpolated to waypoints at most
+   ``maximum extent / 100`` apart (at least :data:`MIN_WAYPOINT_COUNT`), as MoveIt does. Every
+   waypoint is one of the states the edge checker validated.
+
+Path constraints: joint constraints narrow the planner's joint bounds. Position and
+orientation constraints make a constrained problem that a state sampler cannot reach through
+OMPL's Python bindings (they cannot install samplers or set constrained-space states), so such
+requests are planned by :func:`_constrained_rrt_connect`, a projection-based bidirectional RRT
+(CBiRRT, Berenson et al. 2009) that steps along the constraint manifold by Jacobian
+projection; edges are checked exactly as above, constraints included. The planner id is then
+reported in the log but not used.
+
+Reproducibility: each attempt seeds OMPL's random generators (``ompl.util.RNG.setSeed``,
+before any planner object is made) and numpy's from ``seed`` + attempt number, so the same
+request with the same seed gives the same path; a run cut short by its timeout can differ.
+
+Failure messages are MoveIt's error code names, with details after a colon:
+``"START_STATE_IN_COLLISION: start state is in collision: panda_hand - box"``,
+``"TIMED_OUT: no solution found in 1 s (RRTConnect)"``, ``"PLANNING_FAILED: ..."``.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from collections.abc import Callable
+from contextlib import contextmanager
+from dataclasses import dataclass
+
+import numpy as np
+import ompl.base as ob
+import ompl.geometric as og
+import ompl.util as ou
+
+from mtc import msgs
+from mtc.planners.constraints import ConstraintEvaluator, KinematicConstraintSet
+from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_model import JointModelGroup, RobotModel
+from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+log = logging.getLogger(__name__)
+
+__all__ = [
+    "OMPLPipeline",
+    "KNOWN_PLANNERS",
+    "DEFAULT_PLANNER",
+    "PlanStats",
+    "resolve_planner_id",
+]
+
+#: Largest change of any joint between two states checked along an edge [rad or m]. 0.015 rad
+#: moves a point 1 m from the joint axis by 1.5 cm; the Panda's links are at most ~0.3 m long
+#: beyond the wrist and its collision meshes are convex hulls, so thin obstacles of ~1 cm are
+#: still caught. MoveIt's default (``longest_valid_segment_fraction`` 0.005 of the maximum
+#: extent) is about 0.065 rad in the Euclidean norm for the Panda.
+DEFAULT_RESOLUTION = 0.015
+#: Start states outside the bounds by at most this much are moved onto them [rad or m]
+#: (MoveIt's ``start_state_max_bounds_error``).
+START_STATE_MAX_BOUNDS_ERROR = 0.05
+#: Path simplification may use this fraction of the time the planner took ...
+SIMPLIFY_TIME_FRACTION = 1.0
+#: ... but at least this much [s] (and never more than the request's remaining time).
+MIN_SIMPLIFY_TIME = 0.005
+#: Fewest waypoints of a returned path (MoveIt's ``minimum_waypoint_count``).
+MIN_WAYPOINT_COUNT = 10
+#: IK solutions sampled as goal states of a pose goal.
+POSE_GOAL_SAMPLES = 4
+#: Extension step of RRT-family planners [rad, Euclidean]. OMPL's default (0.2 of the maximum
+#: extent, about 2.6 rad for the Panda) makes long edges that are mostly blocked; 1.0 was the
+#: fastest on the MotionBenchMaker problems (bench/motion_bench.py).
+DEFAULT_RANGE = 1.0
+#: The search checks every 4th state along its edges (0.06 rad apart); the returned path is
+#: then checked at every state (:data:`DEFAULT_RESOLUTION`).
+DEFAULT_SEARCH_RATIO = 4
+
+DEFAULT_PLANNER = "RRTConnectkConfigDefault"
+
+# MoveIt's planner names (ompl_planning.yaml's "type: geometric::X" and the "XkConfigDefault"
+# ids) -> the class in ompl.geometric; only those the installed OMPL offers are known.
+_MOVEIT_NAMES = {
+    "RRTConnect": "RRTConnect",
+    "RRT": "RRT",
+    "RRTstar": "RRTstar",
+    "PRM": "PRM",
+    "PRMstar": "PRMstar",
+    "BITstar": "BITstar",
+    "KPIECE": "KPIECE1",
+    "BKPIECE": "BKPIECE1",
+    "LBKPIECE": "LBKPIECE1",
+    "FMT": "FMT",
+    "BFMT": "BFMT",
+    "InformedRRTstar": "InformedRRTstar",
+    "SORRTstar": "SORRTstar",
+    "AORRTC": "AORRTC",
+    "EST": "EST",
+    "BiEST": "BiEST",
+    "ProjEST": "ProjEST",
+    "SBL": "SBL",
+    "TRRT": "TRRT",
+    "BiTRRT": "BiTRRT",
+    "LazyPRM": "LazyPRM",
+    "LazyPRMstar": "LazyPRMstar",
+    "SPARS": "SPARS",
+    "SPARStwo": "SPARStwo",
+    "STRIDE": "STRIDE",
+    "PDST": "PDST",
+    "LazyRRT": "LazyRRT",
+    "ABITstar": "ABITstar",
+    "AITstar": "AITstar",
+}
+# planners that keep improving until the time is up (MoveIt gives them the whole budget)
+_OPTIMIZING = {"RRTstar", "PRMstar", "BITstar", "InformedRRTstar", "SORRTstar", "AORRTC", "ABITstar", "AITstar"}
+
+
+def _planner_table() -> dict[str, str]:
+    table: dict[str, str] = {}
+    for moveit_name, cls_name in _MOVEIT_NAMES.items():
+        if hasattr(og, cls_name):
+            table[moveit_name] = cls_name
+            table[f"{moveit_name}kConfigDefault"] = cls_name
+            table[f"geometric::{moveit_name}"] = cls_name
+            table[cls_name] = cls_name
+    return table
+
+
+_PLANNERS = _planner_table()
+#: Planner ids this pipeline accepts: MoveIt's ``XkConfigDefault`` ids, ``geometric::X`` and
+#: the plain OMPL class names, for every planner the installed OMPL offers.
+KNOWN_PLANNERS: tuple[str, ...] = tuple(sorted(_PLANNERS))
+
+
+def resolve_planner_id(planner_id: str | None) -> str:
+    """The ``ompl.geometric`` class name for a planner id ("" or None: the default).
+
+    Raises:
+        ValueError: unknown id, listing the known ones.
+    """
+    if planner_id is None or planner_id == "":
+        planner_id = DEFAULT_PLANNER
+    if not isinstance(planner_id, str):
+        raise TypeError(f"planner id must be a string, not {type(planner_id).__name__}")
+    try:
+        return _PLANNERS[planner_id]
+    except KeyError:
+        ids = sorted(k for k in _PLANNERS if k.endswith("kConfigDefault"))
+        raise ValueError(
+            f"unknown OMPL planner id '{planner_id}' (known: {', '.join(ids)}; the plain OMPL names "
+            f"such as 'RRTConnect' work too)"
+        ) from None
+
+
+def _result(success: bool, message: str = ""):
+    from mtc.planners.planner_interface import PlannerResult  # owner A's seam, imported lazily
+
+    return PlannerResult(success, message)
+
+
+@contextmanager
+def _quiet_ompl():
+    """Silence OMPL's console output (results are reported as data and through logging)."""
+    level = ou.getLogLevel()
+    ou.setLogLevel(ou.LOG_NONE)
+    try:
+        yield
+    finally:
+        ou.setLogLevel(level)
+
+
+def _ompl_seed(seed: int) -> int:
+    # OMPL ignores seed 0; keep seeds positive 32-bit and distinct for distinct inputs
+    return (int(seed) % 0xFFFFFFFE) + 1
+
+
+# ---------------------------------------------------------------------------------------------
+# Statistics
+
+
+@dataclass
+class PlanStats:
+    """What the last request cost (read by bench/motion_bench.py).
+
+    Attributes:
+        planner: OMPL class (or internal planner) that produced the path.
+        states_checked: collision (and constraint) checks of single states.
+        check_time: time spent in those checks [s].
+        plan_time: time of the search [s].
+        simplify_time: time of shortcutting and interpolation [s].
+        total_time: time of the whole request [s].
+        raw_waypoints: vertices of the planner's path before simplification.
+        path_length: joint-space length (Euclidean per segment) of the returned path [rad].
+        attempts: attempts run.
+        search_checks: state checks made by the search (the rest: shortcutting and the
+            full-resolution check of the result).
+        fine_retries: searches repeated because a coarse-valid path failed the fine check.
+    """
+
+    planner: str = ""
+    states_checked: int = 0
+    check_time: float = 0.0
+    plan_time: float = 0.0
+    simplify_time: float = 0.0
+    total_time: float = 0.0
+    raw_waypoints: int = 0
+    path_length: float = float("nan")
+    attempts: int = 0
+    search_checks: int = 0
+    fine_retries: int = 0
+
+
+# ---------------------------------------------------------------------------------------------
+# State and edge checking
+
+
+_ORDERS: dict[int, np.ndarray] = {}
+
+
+def _bisection_order(n: int) -> np.ndarray:
+    """Indices 1..n with n first and then the midpoints of ever finer halves (so states far
+    from both checked ends come first: a blocked edge is found out after few checks)."""
+    cached = _ORDERS.get(n)
+    if cached is not None:
+        return cached
+    order = [n]
+    seen = {0, n}
+    step = n
+    while step > 1:
+        half = step / 2.0
+        k = half
+        while k < n:
+            i = int(round(k))
+            if i not in seen:
+                seen.add(i)
+                order.append(i)
+            k += step
+        step = half
+    order.extend(i for i in range(1, n) if i not in seen)
+    out = np.asarray(order, dtype=int)
+    out.flags.writeable = False
+    if len(_ORDERS) < 4096:
+        _ORDERS[n] = out
+    return out
+
+
+class _EdgeChecker:
+    """Validity of group configurations (collision-free, constraints hold) and of straight
+    edges between them.
+
+    Works on the group's variables ``x`` (k-vectors); the other variables stay at ``base``.
+    An edge whose largest joint change is ``d`` is cut into ``n = ceil(d / coarse) * ratio``
+    segments of at most ``resolution`` (= ``coarse / ratio``) per joint. The search checks
+    only every ``ratio``-th of those states (:meth:`edge_ok`); a path is accepted after all
+    of them are checked (:meth:`edge_ok_fine`, which skips the ones already checked). Most
+    edges the search tries are never part of the answer, so they never pay for the fine
+    check.
+    """
+
+    def __init__(
+        self,
+        scene: PlanningScene,
+        group: JointModelGroup,
+        base: np.ndarray,
+        constraints: ConstraintEvaluator | None,
+        resolution: float,
+        ratio: int = 1,
+    ):
+        model = scene.robot_model
+        self._collision_free = scene.state_validity_checker(group.name)
+        self._constraints = None if constraints is None or constraints.empty else constraints
+        self._idx = group.variable_indices
+        self._base = np.array(base, dtype=float)
+        # mimic followers only need updating when the group moves one of their masters
+        self._mimic = any(master in set(self._idx.tolist()) for _, master, *_ in model.mimic_followers)
+        self._model = model
+        self.resolution = float(resolution)
+        self.ratio = max(1, int(ratio))
+        self.coarse = self.resolution * self.ratio
+        self.search_fine = self.ratio == 1  # True: the search checks edges fully
+        self.states_checked = 0
+        self.check_time = 0.0
+        self._valid_states: set[bytes] = set()  # states known valid (tree vertices, ends)
+        self._coarse_edges: set[bytes] = set()  # edges valid at the search resolution
+        self._fine_edges: set[bytes] = set()  # edges valid at the full resolution
+
+    def full(self, x: np.ndarray) -> np.ndarray:
+        q = self._base.copy()
+        q[self._idx] = x
+        if self._mimic:
+            self._model.enforce_mimic(q)
+        return q
+
+    def _check_full(self, q: np.ndarray) -> bool:
+        self.states_checked += 1
+        if not self._collision_free(q):
+            return False
+        return self._constraints is None or self._constraints(q)
+
+    def state_ok(self, x: np.ndarray) -> bool:
+        """Whether the group configuration ``x`` is valid (cached for exact repeats)."""
+        key = x.tobytes()
+        if key in self._valid_states:
+            return True
+        t0 = time.perf_counter()
+        ok = self._check_full(self.full(x))
+        self.check_time += time.perf_counter() - t0
+        if ok:
+            self._valid_states.add(key)
+        return ok
+
+    def segments(self, a: np.ndarray, b: np.ndarray) -> int:
+        """Number of (fine) segments an edge is checked and interpolated in."""
+        d = float(np.max(np.abs(b - a))) if a.size else 0.0
+        return max(1, math.ceil(d / self.coarse - 1e-9)) * self.ratio
+
+    _order = staticmethod(_bisection_order)
+
+    def _check_params(self, a: np.ndarray, b: np.ndarray, t: np.ndarray) -> bool:
+        t0 = time.perf_counter()
+        # all states of the edge in one numpy operation; checked one by one, blocked early out
+        Q = np.repeat(self._base[None, :], len(t), axis=0)
+        Q[:, self._idx] = a + t[:, None] * (b - a)
+        if self._mimic:
+            self._model.enforce_mimic(Q)
+        ok = True
+        check = self._check_full
+        for q in Q:
+            if not check(q):
+                ok = False
+                break
+        self.check_time += time.perf_counter() - t0
+        return ok
+
+    def edge_ok(self, a: np.ndarray, b: np.ndarray) -> bool:
+        """Whether the edge from ``a`` (assumed valid) to ``b`` is valid at the search
+        resolution (``b`` included)."""
+        if self.search_fine:
+            return self.edge_ok_fine(a, b)
+        return self._edge_ok_coarse(a, b)
+
+    def _edge_ok_coarse(self, a: np.ndarray, b: np.ndarray) -> bool:
+        key = a.tobytes() + b.tobytes()
+        if key in self._coarse_edges or key in self._fine_edges:
+            return True
+        n = self.segments(a, b) // self.ratio
+        order = self._order(n)
+        if b.tobytes() in self._valid_states:
+            order = order[1:]  # the end is known valid
+        ok = self._check_params(a, b, order / n)
+        if ok:
+            self._coarse_edges.add(key)
+            self._coarse_edges.add(b.tobytes() + a.tobytes())
+            self._valid_states.add(b.tobytes())
+        return ok
+
+    def edge_ok_fine(self, a: np.ndarray, b: np.ndarray) -> bool:
+        """Whether the edge is valid at every one of its :meth:`segments` states."""
+        key = a.tobytes() + b.tobytes()
+        if key in self._fine_edges:
+            return True
+        if not self._edge_ok_coarse(a, b):
+            return False
+        if self.ratio > 1:
+            n = self.segments(a, b)
+            order = self._order(n)
+            rest = order[order % self.ratio != 0]  # the others were checked by edge_ok
+            if rest.size and not self._check_params(a, b, rest / n):
+                return False
+        self._fine_edges.add(key)
+        self._fine_edges.add(b.tobytes() + a.tobytes())
+        return True
+
+    def path_ok(self, path: np.ndarray, fine: bool = False) -> bool:
+        check = self.edge_ok_fine if fine else self.edge_ok
+        return all(check(path[i], path[i + 1]) for i in range(len(path) - 1))
+
+    def first_bad_edge(self, path: np.ndarray) -> int:
+        """Index of the first edge that fails the fine check, or -1."""
+        for i in range(len(path) - 1):
+            if not self.edge_ok_fine(path[i], path[i + 1]):
+                return i
+        return -1
+
+
+class _MotionValidator(ob.MotionValidator):
+    """OMPL motion validator calling :class:`_EdgeChecker` (edges checked in numpy batches at
+    the joint resolution instead of one Python callback per interpolated state)."""
+
+    def __init__(self, si, checker: _EdgeChecker, k: int):
+        super().__init__(si)
+        self._checker = checker
+        self._k = range(k)
+
+    def checkMotion(self, s1, s2, *_last_valid) -> bool:  # noqa: N802 (OMPL's name)
+        k = self._k
+        a = np.fromiter((s1[i] for i in k), dtype=float, count=len(k))
+        b = np.fromiter((s2[i] for i in k), dtype=float, count=len(k))
+        return self._checker.edge_ok(a, b)
+
+
+# ---------------------------------------------------------------------------------------------
+# Path post-processing (numpy)
+
+
+def _path_length(path: np.ndarray) -> float:
+    if len(path) < 2:
+        return 0.0
+    return float(np.linalg.norm(np.diff(path, axis=0), axis=1).sum())
+
+
+def _shortcut(path: np.ndarray, check: Callable[[np.ndarray, np.ndarray], bool], rng: np.random.Generator,
+              deadline: float) -> np.ndarray:
+    """Shorten a valid path: greedy vertex shortcuts, then random shortcuts between points on
+    the path, until ``deadline`` or no progress. Every edge of the result passed ``check``."""
+    path = [np.asarray(p, dtype=float) for p in path]
+    # 1) greedy: from each vertex jump to the farthest vertex it sees
+    out = [path[0]]
+    i = 0
+    while i < len(path) - 1:
+        j = len(path) - 1
+        while j > i + 1:
+            if time.perf_counter() > deadline:
+                j = i + 1
+                break
+            if check(path[i], path[j]):
+                break
+            j -= 1
+        out.append(path[j])
+        i = j
+    path = out
+    # 2) random shortcuts between points on two different edges
+    failures = 0
+    max_failures = max(5, len(path))
+    while len(path) > 2 and failures < max_failures and time.perf_counter() < deadline:
+        seg = np.linalg.norm(np.diff(np.asarray(path), axis=0), axis=1)
+        total = float(seg.sum())
+        if total <= 1e-9:
+            break
+        cum = np.concatenate([[0.0], np.cumsum(seg)])
+        s1, s2 = np.sort(rng.uniform(0.0, total, 2))
+        e1 = int(np.searchsorted(cum, s1, side="right") - 1)
+        e2 = int(np.searchsorted(cum, s2, side="right") - 1)
+        e1, e2 = min(e1, len(seg) - 1), min(e2, len(seg) - 1)
+        if e1 == e2:
+            failures += 1
+            continue
+        p1 = path[e1] + (s1 - cum[e1]) / seg[e1] * (path[e1 + 1] - path[e1]) if seg[e1] > 0 else path[e1]
+        p2 = path[e2] + (s2 - cum[e2]) / seg[e2] * (path[e2 + 1] - path[e2]) if seg[e2] > 0 else path[e2]
+        new_len = float(np.linalg.norm(p2 - p1))
+        old_len = (cum[e1 + 1] - s1) + (cum[e2] - cum[e1 + 1]) + (s2 - cum[e2])
+        if new_len >= old_len - 1e-6:
+            failures += 1
+            continue
+        # the pieces p[e1] -> p1 and p2 -> p[e2+1] lie on edges already checked; the caller
+        # checks the result at the full resolution
+        if check(p1, p2):
+            path = path[: e1 + 1] + [p1, p2] + path[e2 + 1 :]
+            failures = 0
+        else:
+            failures += 1
+    return np.asarray(path)
+
+
+def _interpolate(path: np.ndarray, checker: _EdgeChecker, max_segment: float, min_count: int) -> np.ndarray:
+    """Waypoints along ``path``: each edge in ``ceil(length / max_segment)`` pieces (more if the
+    whole path would have fewer than ``min_count`` waypoints), each waypoint one of the states
+    the checker validated on that edge."""
+    if len(path) < 2:
+        return np.asarray(path)
+    seg = np.linalg.norm(np.diff(path, axis=0), axis=1)
+    pieces = np.maximum(1, np.ceil(seg / max_segment - 1e-9)).astype(int)
+    total = float(seg.sum())
+    while pieces.sum() + 1 < min_count and total > 0:
+        # add pieces to the longest edge per piece until the count is reached
+        k = int(np.argmax(seg / pieces))
+        pieces[k] += 1
+    out = [path[0]]
+    for i in range(len(path) - 1):
+        a, b = path[i], path[i + 1]
+        n_check = checker.segments(a, b)
+        m = min(int(pieces[i]), n_check)
+        for j in range(1, m + 1):
+            t = round(j * n_check / m) / n_check  # a state the edge check looked at
+            out.append(a + t * (b - a))
+        out[-1] = b.copy()
+    return np.asarray(out)
+
+
+# ---------------------------------------------------------------------------------------------
+# The pipeline
+
+
+@dataclass
+class _Request:
+    scene: PlanningScene
+    group: JointModelGroup
+    start: RobotState
+    base: np.ndarray  # full start vector (after bound fixing)
+    x_start: np.ndarray
+    original_start: np.ndarray | None  # set when the start was moved onto its bounds
+    lower: np.ndarray
+    upper: np.ndarray
+    constraints: KinematicConstraintSet
+    evaluator: ConstraintEvaluator | None
+    checker: _EdgeChecker
+    deadline: float
+    t0: float
+
+
+class OMPLPipeline:
+    """OMPL planners behind MoveIt's request semantics (see the module docstring).
+
+    Args:
+        resolution: largest joint change between checked states along an edge [rad or m].
+        planner_range: extension step of RRT-family planners [rad]; 0 keeps OMPL's default.
+        search_ratio: the search checks every ``search_ratio``-th state of an edge; the
+            returned path has all of them checked (1: the search checks every state).
+
+    Attributes:
+        last_stats: :class:`PlanStats` of the most recent request.
+    """
+
+    def __init__(
+        self,
+        resolution: float = DEFAULT_RESOLUTION,
+        planner_range: float = DEFAULT_RANGE,
+        search_ratio: int = DEFAULT_SEARCH_RATIO,
+    ):
+        if not resolution > 0:
+            raise ValueError(f"resolution must be > 0, got {resolution}")
+        if not (isinstance(search_ratio, (int, np.integer)) and search_ratio >= 1):
+            raise ValueError(f"search_ratio must be an integer >= 1, got {search_ratio!r}")
+        self.search_ratio = int(search_ratio)
+        if planner_range < 0:
+            raise ValueError(f"planner_range must be >= 0, got {planner_range}")
+        self.resolution = float(resolution)
+        self.planner_range = float(planner_range)
+        self.last_stats = PlanStats()
+
+    known_planners = KNOWN_PLANNERS
+    default_planner = DEFAULT_PLANNER
+
+    # ------------------------------------------------------------------ public API
+    def plan_joint(
+        self,
+        scene: PlanningScene,
+        start: RobotState,
+        goal: RobotState,
+        group: str,
+        planner_id: str = "",
+        timeout: float = 1.0,
+        attempts: int = 1,
+        path_constraints: msgs.Constraints | None = None,
+        goal_joint_tolerance: float = 1e-4,
+        seed: int = 0,
+    ):
+        """Plan from ``start`` to the group's variables of ``goal``.
+
+        Args:
+            scene: the scene to plan in (its world, attached objects and ACM).
+            start: start state (variables outside ``group`` stay as they are).
+            goal: goal state (only the group's variables are used).
+            group: planning group.
+            planner_id: MoveIt or OMPL planner id ("" = :data:`DEFAULT_PLANNER`).
+            timeout: time budget of the whole request [s].
+            attempts: planning attempts (MoveIt's ``num_planning_attempts``); the shortest
+                path of the successful ones is returned.
+            path_constraints: constraints every waypoint must satisfy.
+            goal_joint_tolerance: a start this close to the goal (every variable) is already
+                there [rad or m].
+            seed: seed of every random choice.
+
+        Returns:
+            ``(PlannerResult, RobotTrajectory | None)``.
+
+        Raises:
+            ValueError: unknown planner id, bad timeout/attempts/tolerance.
+            KeyError: unknown group.
+        """
+        cls_name = resolve_planner_id(planner_id)
+        self._check_args(timeout, attempts, goal_joint_tolerance, "goal_joint_tolerance")
+        if not isinstance(goal, RobotState):
+            raise TypeError(f"goal must be a RobotState, not {type(goal).__name__}")
+        req, failure = self._prepare(scene, start, group, timeout, path_constraints)
+        if failure is not None:
+            return failure
+        x_goal = goal.positions[req.group.variable_indices].astype(float)
+        failure = self._check_goal(req, x_goal, "goal state")
+        if failure is not None:
+            return self._fail(req, failure)
+        return self._solve(req, [x_goal], cls_name, attempts, goal_joint_tolerance, seed)
+
+    def plan_pose(
+        self,
+        scene: PlanningScene,
+        start: RobotState,
+        link: str,
+        offset: np.ndarray,
+        target: np.ndarray,
+        group: str,
+        planner_id: str = "",
+        timeout: float = 1.0,
+        attempts: int = 1,
+        path_constraints: msgs.Constraints | None = None,
+        goal_position_tolerance: float = 1e-4,
+        goal_orientation_tolerance: float = 1e-4,
+        seed: int = 0,
+    ):
+        """Plan from ``start`` until ``pose(link) · offset == target`` (target in the planning
+        frame), within the position [m] and orientation [rad] tolerances.
+
+        Goal states are inverse-kinematics solutions (collision-free, inside the path
+        constraints) sampled with ``seed``; the planner may end at any of them.
+
+        Returns:
+            ``(PlannerResult, RobotTrajectory | None)``; ``NO_IK_SOLUTION`` when no valid goal
+            state was found.
+        """
+        cls_name = resolve_planner_id(planner_id)
+        self._check_args(timeout, attempts, goal_position_tolerance, "goal_position_tolerance")
+        self._check_args(timeout, attempts, goal_orientation_tolerance, "goal_orientation_tolerance")
+        offset = np.eye(4) if offset is None else np.asarray(offset, dtype=float)
+        target = np.asarray(target, dtype=float)
+        for name, T in (("offset", offset), ("target", target)):
+            if T.shape != (4, 4) or not np.all(np.isfinite(T)):
+                raise ValueError(f"{name} must be a finite 4x4 pose, got shape {T.shape}")
+        req, failure = self._prepare(scene, start, group, timeout, path_constraints)
+        if failure is not None:
+            return failure
+        goals, message = self._pose_goals(
+            req, link, offset, target, goal_position_tolerance, goal_orientation_tolerance, seed
+        )
+        if not goals:
+            return self._fail(req, message)
+        return self._solve(req, goals, cls_name, attempts, 0.0, seed)
+
+    # ------------------------------------------------------------------ preparation
+    @staticmethod
+    def _check_args(timeout, attempts, tolerance, tolerance_name) -> None:
+        if not (isinstance(timeout, (int, float)) and timeout > 0):
+            raise ValueError(f"timeout must be > 0 [s], got {timeout!r}")
+        if not (isinstance(attempts, (int, np.integer)) and attempts >= 1):
+            raise ValueError(f"attempts (num_planning_attempts) must be an integer >= 1, got {attempts!r}")
+        if not (isinstance(tolerance, (int, float)) and tolerance >= 0):
+            raise ValueError(f"{tolerance_name} must be >= 0, got {tolerance!r}")
+
+    def _prepare(self, scene, start, group, timeout, path_constraints):
+        t0 = time.perf_counter()
+        self.last_stats = PlanStats()
+        if not isinstance(scene, PlanningScene):
+            raise TypeError(f"scene must be a PlanningScene, not {type(scene).__name__}")
+        if not isinstance(start, RobotState):
+            raise TypeError(f"start must be a RobotState, not {type(start).__name__}")
+        model: RobotModel = scene.robot_model
+        if start.robot_model is not model:
+            raise ValueError("the start state belongs to a different robot model than the scene")
+        jmg = model.get_joint_model_group(group)  # KeyError names the groups
+        if jmg.variable_count == 0:
+            raise ValueError(f"group '{jmg.name}' has no active variables to plan for")
+        idx = jmg.variable_indices
+        lower, upper = self._group_bounds(model, idx)
+        constraints = KinematicConstraintSet(model, path_constraints)
+        # joint constraints narrow the bounds the planner samples in (they are still checked)
+        for var, (lo, hi) in constraints.joint_bounds().items():
+            where = np.nonzero(idx == var)[0]
+            if where.size:
+                lower[where[0]] = max(lower[where[0]], lo)
+                upper[where[0]] = min(upper[where[0]], hi)
+        base = start.positions.copy()
+        original = None
+        x = base[idx].copy()
+        cont = model.continuous_mask[idx]
+        x[cont] = (x[cont] + np.pi) % (2 * np.pi) - np.pi
+        model_lo, model_hi = self._group_bounds(model, idx)
+        below, above = model_lo - x, x - model_hi
+        worst = np.maximum(below, above)
+        req = None
+        if np.any(worst > 0):
+            k = int(np.argmax(worst))
+            name = jmg.variable_names[k]
+            if worst[k] > START_STATE_MAX_BOUNDS_ERROR:
+                return None, (
+                    _result(
+                        False,
+                        f"START_STATE_INVALID: joint '{name}' = {x[k]:.6g} is outside its bounds "
+                        f"[{model_lo[k]:.6g}, {model_hi[k]:.6g}]",
+                    ),
+                    None,
+                )
+            original = base.copy()
+            x = np.clip(x, model_lo, model_hi)
+            log.info("start state moved onto its bounds (joint '%s' was %.3g outside)", name, worst[k])
+        base[idx] = x
+        model.enforce_mimic(base)
+        try:
+            evaluator = constraints.bind(scene) if not constraints.empty else None
+        except KeyError as e:
+            raise KeyError(f"path constraints: {e.args[0] if e.args else e}") from None
+        checker = _EdgeChecker(scene, jmg, base, evaluator, self.resolution, self.search_ratio)
+        req = _Request(
+            scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0
+        )
+        # start validity: collision (with the bodies named), then path constraints
+        start_state = RobotState(model, base)
+        if not checker.state_ok(x):
+            collisions = scene.get_collisions(start_state, jmg.name)
+            if collisions:
+                pairs = ", ".join(f"{a} - {b}" for a, b in collisions)
+                return None, self._fail(req, f"START_STATE_IN_COLLISION: start state is in collision: {pairs}")
+            return None, self._fail(
+                req,
+                "START_STATE_VIOLATES_PATH_CONSTRAINTS: start state violates the path constraints: "
+                + "; ".join(evaluator.describe(base)),
+            )
+        if np.any(x < lower - 1e-12) or np.any(x > upper + 1e-12):
+            return None, self._fail(
+                req,
+                "START_STATE_VIOLATES_PATH_CONSTRAINTS: start state violates the path constraints: "
+                + "; ".join(evaluator.describe(base) if evaluator else []),
+            )
+        return req, None
+
+    @staticmethod
+    def _group_bounds(model: RobotModel, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        lo = model.lower_bounds[idx].astype(float)
+        hi = model.upper_bounds[idx].astype(float)
+        # continuous joints: one turn, wrapped
+        lo = np.where(np.isfinite(lo), lo, -np.pi)
+        hi = np.where(np.isfinite(hi), hi, np.pi)
+        return lo, hi
+
+    def _check_goal(self, req: _Request, x_goal: np.ndarray, what: str) -> str | None:
+        """None when ``x_goal`` is a valid goal, else the failure message."""
+        model = req.scene.robot_model
+        jmg = req.group
+        cont = model.continuous_mask[jmg.variable_indices]
+        x_goal[cont] = (x_goal[cont] + np.pi) % (2 * np.pi) - np.pi
+        lo, hi = self._group_bounds(model, jmg.variable_indices)
+        bad = np.nonzero((x_goal < lo - 1e-9) | (x_goal > hi + 1e-9))[0]
+        if bad.size:
+            k = int(bad[0])
+            return (
+                f"GOAL_STATE_INVALID: {what}: joint '{jmg.variable_names[k]}' = {x_goal[k]:.6g} is outside "
+                f"its bounds [{lo[k]:.6g}, {hi[k]:.6g}]"
+            )
+        np.clip(x_goal, lo, hi, out=x_goal)
+        if not req.checker.state_ok(x_goal):
+            q = req.checker.full(x_goal)
+            collisions = req.scene.get_collisions(RobotState(model, q), jmg.name)
+            if collisions:
+                pairs = ", ".join(f"{a} - {b}" for a, b in collisions)
+                return f"GOAL_IN_COLLISION: {what} is in collision: {pairs}"
+            return (
+                f"GOAL_VIOLATES_PATH_CONSTRAINTS: {what} violates the path constraints: "
+                + "; ".join(req.evaluator.describe(q))
+            )
+        if np.any(x_goal < req.lower - 1e-12) or np.any(x_goal > req.upper + 1e-12):
+            q = req.checker.full(x_goal)
+            return (
+                f"GOAL_VIOLATES_PATH_CONSTRAINTS: {what} violates the path constraints: "
+                + "; ".join(req.evaluator.describe(q) if req.evaluator else [])
+            )
+        return None
+
+    def _pose_goals(self, req, link, offset, target, pos_tol, rot_tol, seed):
+        """Valid IK goal states for a pose goal, or ([], failure message)."""
+        from mtc.planners import ik  # owner A's solver, imported lazily
+
+        scene = req.scene
+        state = scene.current_state.copy()  # knows the scene's attached frames
+        state.positions = req.base
+        try:
+            tip, tip_offset = ik.resolve_tip(state, req.group.name, link)
+        except (KeyError, ValueError) as e:
+            raise KeyError(f"pose goal: {e.args[0] if e.args else e}") from None
+        link_target = target @ np.linalg.inv(tip_offset @ offset)
+        solver = ik.get_ik_solver(scene.robot_model, req.group.name, tip)
+        checker = req.checker
+        idx = req.group.variable_indices
+        in_bounds = lambda x: bool(np.all(x >= req.lower - 1e-12) and np.all(x <= req.upper + 1e-12))  # noqa: E731
+        rejected = {"collision": 0, "constraints": 0}
+
+        def is_valid(q: np.ndarray) -> bool:
+            x = q[idx]
+            if not in_bounds(x):
+                rejected["constraints"] += 1
+                return False
+            if not checker.state_ok(x):
+                rejected["collision"] += 1
+                return False
+            return True
+
+        budget = max(0.0, min(req.deadline - time.perf_counter(), req.group.default_ik_timeout * 10))
+        solutions = solver.solve(
+            link_target,
+            req.base,
+            timeout=budget,
+            rng=np.random.default_rng([int(seed), 1]),
+            is_valid=is_valid,
+            max_solutions=POSE_GOAL_SAMPLES,
+            max_attempts=200,
+            tolerance=min(pos_tol, rot_tol, 1e-6) if min(pos_tol, rot_tol) > 0 else 1e-9,
+        )
+        goals = []
+        for q in solutions:
+            reached = solver.forward(q).homogeneous
+            err_p = float(np.linalg.norm(reached[:3, 3] - link_target[:3, 3]))
+            R = link_target[:3, :3].T @ reached[:3, :3]
+            err_r = float(np.arccos(np.clip((np.trace(R) - 1) / 2, -1.0, 1.0)))
+            if err_p <= pos_tol + 1e-12 and err_r <= rot_tol + 1e-12:
+                goals.append(q[idx].astype(float))
+        if goals:
+            return goals, ""
+        if rejected["collision"] or rejected["constraints"]:
+            return [], (
+                f"NO_IK_SOLUTION: no valid goal state for '{link}' ({rejected['collision']} IK solutions in "
+                f"collision, {rejected['constraints']} violating the path constraints)"
+            )
+        return [], f"NO_IK_SOLUTION: no inverse kinematics solution for '{link}' at the target pose"
+
+    # ------------------------------------------------------------------ solving
+    def _fail(self, req: _Request | None, message: str):
+        if req is not None:
+            self._finish_stats(req)
+        log.debug("OMPL pipeline: %s", message)
+        return _result(False, message), None
+
+    def _finish_stats(self, req: _Request) -> None:
+        st = self.last_stats
+        st.states_checked = req.checker.states_checked
+        st.check_time = req.checker.check_time
+        st.total_time = time.perf_counter() - req.t0
+
+    def _solve(self, req: _Request, goals: list[np.ndarray], cls_name: str, attempts: int, goal_tol: float, seed: int):
+        checker = req.checker
+        stats = self.last_stats
+        stats.planner = cls_name
+        # already there
+        for g in goals:
+            if np.all(np.abs(g - req.x_start) <= goal_tol):
+                return self._success(req, np.array([req.x_start, g]), np.array([req.x_start, g]))
+        # the straight segment (to the nearest goal first)
+        order = sorted(range(len(goals)), key=lambda i: float(np.abs(goals[i] - req.x_start).sum()))
+        t_plan = time.perf_counter()
+        for i in order:
+            if checker.edge_ok_fine(req.x_start, goals[i]):
+                stats.plan_time = time.perf_counter() - t_plan
+                stats.planner = "straight line"
+                path = np.array([req.x_start, goals[i]])
+                return self._success(req, path, _interpolate(path, checker, self._max_segment(req), MIN_WAYPOINT_COUNT))
+        if req.evaluator is not None and req.constraints.has_link_constraints:
+            runner = self._run_constrained
+            stats.planner = "CBiRRT"
+            log.info("position/orientation path constraints: planning with projection (CBiRRT), not %s", cls_name)
+        else:
+            runner = self._run_ompl
+        best = None
+        last_message = ""
+        attempt = 0
+        while attempt < attempts:
+            if time.perf_counter() >= req.deadline:
+                break
+            stats.attempts += 1
+            t_plan = time.perf_counter()
+            # optimizing planners use all the time they get: share it between the attempts
+            share = (req.deadline - t_plan) / (attempts - attempt) if cls_name in _OPTIMIZING else None
+            before = checker.states_checked
+            path, message = runner(req, req.x_start, goals, cls_name, seed + attempt, share)
+            stats.plan_time += time.perf_counter() - t_plan
+            stats.search_checks += checker.states_checked - before
+            if path is None:
+                last_message = message
+                attempt += 1
+                continue
+            stats.raw_waypoints = len(path)
+            final = self._finalize(req, path, runner, cls_name, time.perf_counter() - t_plan, seed + attempt)
+            if final is None:
+                last_message = "TIMED_OUT: no collision-free path at the checking resolution within the time"
+                attempt += 1
+                continue
+            if best is None or _path_length(final) < _path_length(best):
+                best = final
+            attempt += 1
+        if best is None:
+            if not last_message:
+                last_message = f"TIMED_OUT: no attempt could start within {req.deadline - req.t0:.3g} s"
+            return self._fail(req, last_message)
+        t_simp = time.perf_counter()
+        dense = _interpolate(best, checker, self._max_segment(req), MIN_WAYPOINT_COUNT)
+        stats.simplify_time += time.perf_counter() - t_simp
+        return self._success(req, best, dense)
+
+    def _max_segment(self, req: _Request) -> float:
+        # MoveIt: max_solution_segment_length = maximum extent of the space / 100
+        return float(np.linalg.norm(req.upper - req.lower)) / 100.0
+
+    def _finalize(self, req: _Request, path: np.ndarray, runner, cls_name: str, plan_time: float, seed: int):
+        """Shortcut a path the search found (its edges valid at the search resolution) and make
+        sure the result is valid at the full resolution. Edges of the search's path that fail
+        the full check are replanned with full checks (a short sub-search each). None if that
+        does not succeed in time."""
+        t0 = time.perf_counter()
+        checker = req.checker
+        budget = max(MIN_SIMPLIFY_TIME, SIMPLIFY_TIME_FRACTION * plan_time)
+        deadline = min(t0 + budget, req.deadline)
+        rng = np.random.default_rng([int(seed), 2])
+        out = _shortcut(path, checker.edge_ok, rng, deadline)
+        if not checker.path_ok(out, fine=True):
+            repaired = self._repair(req, path, runner, cls_name, seed)
+            out = repaired
+            if repaired is not None:
+                again = _shortcut(repaired, checker.edge_ok_fine, rng, time.perf_counter() + MIN_SIMPLIFY_TIME)
+                if checker.path_ok(again, fine=True):
+                    out = again
+        self.last_stats.simplify_time += time.perf_counter() - t0
+        return out
+
+    def _repair(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int):
+        """``path`` with every edge that fails the full-resolution check replaced by a path
+        searched with full checks; None if a replacement is not found in time."""
+        checker = req.checker
+        out = [path[0]]
+        fine_before = checker.search_fine
+        try:
+            for i in range(len(path) - 1):
+                a, b = path[i], path[i + 1]
+                if checker.edge_ok_fine(a, b):
+                    out.append(b)
+                    continue
+                self.last_stats.fine_retries += 1
+                checker.search_fine = True
+                sub, _ = runner(req, a, [b], cls_name, seed + 7919 * (i + 1), None)
+                if sub is None or not checker.path_ok(sub, fine=True):
+                    return None
+                out.extend(sub[1:])
+        finally:
+            checker.search_fine = fine_before
+        return np.asarray(out)
+
+    def _success(self, req: _Request, path: np.ndarray, dense: np.ndarray):
+        model = req.scene.robot_model
+        positions = np.asarray(dense, dtype=float)
+        traj = RobotTrajectory.from_positions(model, req.group.name, RobotState(model, req.base), positions)
+        if req.original_start is not None:
+            traj.add_prefix_waypoint(RobotState(model, req.original_start))
+        self.last_stats.path_length = _path_length(np.asarray(path))
+        self._finish_stats(req)
+        return _result(True, ""), traj
+
+    # ------------------------------------------------------------------ OMPL
+    def _run_ompl(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
+                  share=None):
+        """One attempt with an OMPL planner: (path as n x k array, "") or (None, message)."""
+        remaining = req.deadline - time.perf_counter()
+        if share is not None:
+            remaining = min(remaining, share)
+        if remaining <= 0:
+            return None, f"TIMED_OUT: no solution found in {req.deadline - req.t0:.3g} s ({cls_name})"
+        k = req.group.variable_count
+        with _quiet_ompl():
+            ou.RNG.setSeed(_ompl_seed(seed))  # before any OMPL object draws its own seed
+            space = ob.RealVectorStateSpace(k)
+            bounds = ob.RealVectorBounds(k)
+            for i in range(k):
+                lo, hi = float(req.lower[i]), float(req.upper[i])
+                if hi - lo < 1e-9:  # OMPL needs a non-empty interval
+                    hi = lo + 1e-9
+                bounds.setLow(i, lo)
+                bounds.setHigh(i, hi)
+            space.setBounds(bounds)
+            ss = og.SimpleSetup(space)
+            si = ss.getSpaceInformation()
+            checker = req.checker
+            rng_k = range(k)
+
+            def is_valid(state) -> bool:
+                return checker.state_ok(np.fromiter((state[i] for i in rng_k), dtype=float, count=k))
+
+            ss.setStateValidityChecker(is_valid)
+            si.setMotionValidator(_MotionValidator(si, checker, k))
+            start = space.allocState()
+            for i in rng_k:
+                start[i] = float(x_start[i])
+            ss.setStartState(start)
+            if len(goals) == 1:
+                goal = space.allocState()
+                for i in rng_k:
+                    goal[i] = float(goals[0][i])
+                ss.setGoalState(goal, 1e-9)
+            else:
+                goal_states = ob.GoalStates(si)
+                for g in goals:
+                    s = space.allocState()
+                    for i in rng_k:
+                        s[i] = float(g[i])
+                    goal_states.addState(s)
+                ss.setGoal(goal_states)
+            planner = getattr(og, cls_name)(si)
+            if self.planner_range > 0 and hasattr(planner, "setRange"):
+                planner.setRange(self.planner_range)
+            ss.setPlanner(planner)
+            ss.setup()
+            status = ss.solve(remaining)
+            status_type = status.getStatus()
+            exact = ss.haveExactSolutionPath()
+            path = None
+            if exact:
+                p = ss.getSolutionPath()
+                path = np.array([[p.getState(j)[i] for i in rng_k] for j in range(p.getStateCount())])
+            status_text = status.asString()
+            del ss, planner, si, space
+        if path is not None:
+            # OMPL's path must start and end exactly at our states; every edge was validated
+            # by the motion validator, checked again only if not (e.g. a planner's own edges)
+            if not checker.path_ok(path):
+                return None, f"PLANNING_FAILED: {cls_name} returned a path that fails validation"
+            return path, ""
+        if status_type == ob.PlannerStatus.TIMEOUT or time.perf_counter() >= req.deadline:
+            return None, f"TIMED_OUT: no solution found in {req.deadline - req.t0:.3g} s ({cls_name})"
+        return None, f"PLANNING_FAILED: {cls_name}: {status_text}"
+
+    # ------------------------------------------------------------------ constrained
+    def _run_constrained(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
+                         share=None):
+        return _constrained_rrt_connect(req, x_start, goals, np.random.default_rng([int(seed), 3]), self.resolution)
+
+
+# ---------------------------------------------------------------------------------------------
+# Projection-based bidirectional RRT for position/orientation path constraints
+
+
+def _constrained_rrt_connect(req: _Request, x_start, goals, rng: np.random.Generator, resolution: float):
+    """CBiRRT: two trees (start, goals) grown towards random samples and towards each other
+    in small steps, each step projected onto the constraint manifold by damped least squares
+    on the constraint violation. Returns (path, "") or (None, message)."""
+    raise NotImplementedError  # replaced below
