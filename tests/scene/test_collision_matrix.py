@@ -142,3 +142,14 @@ def test_token_tells_equal_content():
     token = acm.token
     acm.remove_entry("a", "b")
     assert acm.token is not token
+
+
+def test_a_forbidding_default_wins_over_an_allowing_one():
+    """With default entries for both bodies and no explicit entry, a forbidding one wins (MoveIt 1)."""
+    acm = AllowedCollisionMatrix()
+    acm.set_default_entry("a", True)
+    assert acm.get_entry("a", "b")
+    acm.set_default_entry("b", False)
+    assert not acm.get_entry("a", "b")
+    acm.set_entry("a", "b", True)
+    assert acm.get_entry("a", "b")

@@ -1,8 +1,9 @@
 """MoveIt's allowed collision matrix (ACM): which pairs of bodies may touch.
 
-An explicit entry for a pair wins; without one, a pair is allowed if the *default entry* of
-either body allows it (MoveIt's ``set_default_entry(name, True)`` means "this body may touch
-anything"). Bodies are links, world objects and attached objects, by name.
+An explicit entry for a pair wins; without one, the *default entries* of the two bodies decide
+(``set_default_entry(name, True)``: "this body may touch anything"), and where both bodies have
+one, a forbidding default wins, as in MoveIt 1. Bodies are links, world objects and attached
+objects, by name.
 """
 
 from __future__ import annotations
@@ -92,7 +93,10 @@ class AllowedCollisionMatrix:
         entry = self._entries.get(frozenset((first, second)))
         if entry is not None:
             return entry
-        return self._defaults.get(first, False) or self._defaults.get(second, False)
+        # as MoveIt 1 (MTC master): without an explicit entry the default entries decide; with
+        # defaults for both bodies, a forbidding one wins
+        defaults = [d for d in (self._defaults.get(first), self._defaults.get(second)) if d is not None]
+        return bool(defaults) and all(defaults)
 
     def has_entry(self, first: str, second: str) -> bool:
         return frozenset((first, second)) in self._entries

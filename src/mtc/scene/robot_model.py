@@ -185,9 +185,9 @@ class RobotModel:
         self.package_dirs = [*(package_dirs or []), *default_package_dirs()]
         urdf_text, urdf_label = read_xml_source(urdf, "URDF")
         self._urdf_label = urdf_label
-        if isinstance(urdf, str) and not urdf.lstrip().startswith("<"):
+        if isinstance(urdf, os.PathLike) or (isinstance(urdf, str) and not urdf.lstrip().startswith("<")):
             # relative mesh paths in a URDF file are relative to the file
-            self.package_dirs.append(os.path.dirname(os.path.abspath(urdf)))
+            self.package_dirs.append(os.path.dirname(os.path.abspath(os.fspath(urdf))))
         self._parse_urdf(urdf_text, urdf_label)
         self._check_meshes(urdf_text, urdf_label)
         self._build_pinocchio(urdf_text, urdf_label, convex_collision_meshes)
