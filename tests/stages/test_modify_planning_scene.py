@@ -258,3 +258,30 @@ def test_callback_exception_is_a_failure(make_task):
     task = forward_task(make_task, m)
     assert not task.plan()
     assert m.failures[0].comment == "no table in sight"
+
+
+def test_seed_add_sphere_and_attach(make_task):
+    """The seed's snippet: add a sphere with one stage, attach it to panda_hand with the next."""
+    obj = msgs.CollisionObject()
+    obj.header.frame_id = "world"
+    obj.id = "sphere"
+    sphere_shape = msgs.SolidPrimitive()
+    sphere_shape.type = msgs.SolidPrimitive.SPHERE
+    sphere_shape.dimensions = [0.02]
+    pose = msgs.PoseStamped()
+    pose.header.frame_id = "world"
+    pose.pose.position.x, pose.pose.position.z = 0.307, 0.285
+    pose.pose.orientation.w = 1.0
+    obj.primitives.append(sphere_shape)
+    obj.primitive_poses.append(pose.pose)
+    obj.operation = msgs.CollisionObject.ADD
+    modify = stages.ModifyPlanningScene("add sphere")
+    modify.addObject(obj)
+    attach = stages.ModifyPlanningScene("attach sphere")
+    attach.attachObject("sphere", "panda_hand")
+    task = make_task(stages.CurrentState(), modify, attach)
+    assert task.plan()
+    scene = end_scene(attach)
+    assert scene.attached_object_names == ["sphere"]
+    shape = scene.get_frame_transform("sphere") @ scene.get_attached_object("sphere").object.shape_poses[0]
+    assert shape[:3, 3] == pytest.approx([0.307, 0.0, 0.285])

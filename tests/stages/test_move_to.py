@@ -475,3 +475,12 @@ def mtc_named(name: str):
     from mtc.robots import panda
 
     return list(panda().get_group_state("panda_arm", name).values())
+
+
+def test_unknown_subframe_is_an_unknown_frame(make_task, start_scene, move):
+    """A subframe the attached object does not have is an unknown ik frame."""
+    attach_object(start_scene)
+    move.setIKFrame("attached_object/nope")
+    move.setGoal(msgs.PoseStamped())
+    assert not make_task(stages.FixedState("start", start_scene), move).plan()
+    assert move.failures[0].comment == "ik_frame specified in unknown frame 'attached_object/nope'"
