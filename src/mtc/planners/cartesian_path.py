@@ -97,6 +97,8 @@ def ik_frame_link(scene: PlanningScene, ik_frame: msgs.PoseStamped | None, jmg: 
             return None, None, "ik_frame doesn't specify a link frame"
         link = attached[0]
     link = model.rigid_parent_link(link)[0]
+    if link not in model.link_model_names:  # the model frame ("world") is no link
+        return None, None, "ik_frame doesn't specify a link frame"
     tip = state.get_frame_transform(frame) @ msgs.pose_to_matrix(ik_frame.pose)
     offset = _rigid_inverse(state.get_global_link_transform(link)) @ tip
     return link, offset, None

@@ -125,6 +125,8 @@ class PathValidity:
 
             kcs = KinematicConstraintSet(scene.robot_model, path_constraints)
             if not kcs.empty:
+                # evaluate once, so that unknown links or frames show up here, not mid-path
+                kcs.satisfied(scene.current_state, scene)
                 self._constraints = kcs
         self._attached = scene.current_state._attached_frames
 
