@@ -17,6 +17,7 @@ from mtc import msgs
 from mtc.core.cost_terms import Constant
 from mtc.core.stage import InitStageError, MonitoringGenerator
 from mtc.core.storage import InterfaceState, SolutionBase, SubTrajectory
+from mtc.stages import _common
 
 __all__ = ["GeneratePose"]
 
@@ -62,9 +63,9 @@ def pose_stamped(T: np.ndarray, frame_id: str) -> msgs.PoseStamped:
     return msgs.PoseStamped(header=msgs.Header(frame_id=frame_id), pose=msgs.matrix_to_pose(T))
 
 
-def frame_marker(ns: str, name: str, pose: msgs.PoseStamped, size: float = 0.1) -> dict:
-    """A coordinate-frame marker (``mtc`` markers are plain dicts the viewer may draw)."""
-    return {"type": "frame", "ns": ns, "name": name, "pose": copy_pose_stamped(pose), "size": size}
+def frame_marker(ns: str, name: str, pose: msgs.PoseStamped, scale: float = 0.1) -> dict:
+    """A coordinate-frame marker at a ``PoseStamped`` (``_common.frame_marker``'s plain dict)."""
+    return _common.frame_marker(ns, name, msgs.pose_to_matrix(pose.pose), pose.header.frame_id or "world", scale)
 
 
 class GeneratePose(MonitoringGenerator):
