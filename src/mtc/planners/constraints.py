@@ -461,6 +461,39 @@ class KinematicConstraintSet:
         )
 
 
+# ---------------------------------------------------------------------------------------------
+# Projection onto the constraints
+
+
+def _euler_xyz_matrix(a: float, b: float, c: float) -> np.ndarray:
+    """``Rx(a) Ry(b) Rz(c)``."""
+    ca, sa, cb, sb, cc, sc = math.cos(a), math.sin(a), math.cos(b), math.sin(b), math.cos(c), math.sin(c)
+    Rx = np.array([[1, 0, 0], [0, ca, -sa], [0, sa, ca]])
+    Ry = np.array([[cb, 0, sb], [0, 1, 0], [-sb, 0, cb]])
+    Rz = np.array([[cc, -sc, 0], [sc, cc, 0], [0, 0, 1]])
+    return Rx @ Ry @ Rz
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+
+
+def _closest_in_region(region: _Region, local: np.ndarray, margin: float) -> np.ndarray:
+    """Closest point to ``local`` (primitive frame) inside the primitive shrunk by ``margin``."""
+    d = np.asarray(region.dims, dtype=float) * margin
+    if region.kind == msgs.SolidPrimitive.BOX:
+        return np.clip(local, -d, d)
+    if region.kind == msgs.SolidPrimitive.SPHERE:
+        n = float(np.linalg.norm(local))
+        return local if n <= d[0] else local * (d[0] / n)
+    out = local.copy()  # cylinder: d = (half height, radius)
+    out[2] = min(max(out[2], -d[0]), d[0])
+    r = math.hypot(out[0], out[1])
+    if r > d[1]:
+        out[:2] *= d[1] / r
+    return out
+
+
 class ConstraintEvaluator:
     """A constraint set bound to a scene, evaluated on full joint vectors ``q``.
 
@@ -567,6 +600,90 @@ class ConstraintEvaluator:
         return _describe(self._terms(q, False))
 
 
+    def project(
+        self,
+        q: np.ndarray,
+        indices: np.ndarray,
+        lower: np.ndarray,
+        upper: np.ndarray,
+        max_iterations: int = 30,
+        margin: float = 0.9,
+        damping: float = 1e-4,
+    ) -> np.ndarray | None:
+        """A state near ``q`` that satisfies the constraints, found by damped least squares on the
+        variables ``indices`` (kept inside ``lower``/``upper``), or None.
+
+        Each iteration moves every constrained link towards the nearest pose inside its
+        constraint shrunk by ``margin`` (so the result has some slack), as a Gauss-Newton step
+        on the stacked position and orientation errors. Joint constraints are the caller's
+        bounds. Headers that move with the robot are treated as fixed during a step.
+        """
+        pm, data = self._pm, self._data
+        q = np.array(q, dtype=float)
+        indices = np.asarray(indices)
+        for _ in range(max_iterations):
+            if self(q):
+                return q
+            pin.computeJointJacobians(pm, data, q)
+            pin.updateFramePlacements(pm, data)
+            rows, errs = [], []
+            for p, link_ref, frame_ref in self._positions:
+                fid, off = link_ref
+                if fid is None:
+                    continue
+                M = data.oMf[fid] * off
+                point = M.act(p.offset)
+                header = self._pose(frame_ref)
+                in_header = header.actInv(point)
+                best, best_dist = None, math.inf
+                for r in p.regions:
+                    local = r.pose_inv.act(in_header)
+                    c = _closest_in_region(r, local, margin)
+                    dist = float(np.linalg.norm(c - local))
+                    if dist < best_dist:
+                        best, best_dist = header.act(r.pose_inv.actInv(c)), dist
+                if best_dist == 0.0:
+                    continue
+                J = pin.getFrameJacobian(pm, data, fid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:, indices]
+                lever = point - data.oMf[fid].translation
+                rows.append(J[:3] - _skew(lever) @ J[3:])
+                errs.append(best - point)
+            for o, link_ref, frame_ref in self._orientations:
+                fid, off = link_ref
+                if fid is None:
+                    continue
+                R_link = (data.oMf[fid] * off).rotation
+                ffid, foff = frame_ref
+                R_ref = foff.rotation.T if ffid is None else (data.oMf[ffid] * foff).rotation
+                diff = R_ref.T @ R_link
+                tol = o.tolerances * margin
+                if o.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
+                    v = rotation_vector(diff)
+                    clamped = np.clip(v, -tol, tol)
+                    if np.allclose(clamped, v):
+                        continue
+                    goal = R_ref @ pin.exp3(clamped)
+                else:
+                    a = euler_xyz(diff)
+                    clamped = np.clip(a, -tol, tol)
+                    if np.allclose(clamped, a):
+                        continue
+                    goal = R_ref @ _euler_xyz_matrix(*clamped)
+                J = pin.getFrameJacobian(pm, data, fid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:, indices]
+                rows.append(J[3:])
+                errs.append(R_link @ pin.log3(R_link.T @ goal))
+            if not rows:
+                return None  # violated, but nothing this projection can move (e.g. joint limits)
+            J = np.vstack(rows)
+            e = np.concatenate(errs)
+            dx = J.T @ np.linalg.solve(J @ J.T + damping * np.eye(len(e)), e)
+            step = float(np.max(np.abs(dx)))
+            if step > 0.5:  # keep Gauss-Newton steps local
+                dx *= 0.5 / step
+            q[indices] = np.clip(q[indices] + dx, lower, upper)
+        return q if self(q) else None
+
+
 def _describe(terms) -> list[str]:
     out = []
     for kind, c, v in terms:
@@ -574,3 +691,4 @@ def _describe(terms) -> list[str]:
             name = c.name if kind == "joint" else c.link
             out.append(f"{kind} constraint on '{name}' violated by {v:.4g}")
     return out
+

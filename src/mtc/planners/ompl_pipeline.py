@@ -102,6 +102,9 @@ DEFAULT_RANGE = 1.0
 #: then checked at every state (:data:`DEFAULT_RESOLUTION`).
 DEFAULT_SEARCH_RATIO = 4
 
+#: Time budget [s] of a request whose timeout is infinite (MoveIt's default planning time).
+UNBOUNDED_TIMEOUT = 5.0
+
 DEFAULT_PLANNER = "RRTConnectkConfigDefault"
 
 # MoveIt's planner names (ompl_planning.yaml's "type: geometric::X" and the "XkConfigDefault"
@@ -193,6 +196,14 @@ def _quiet_ompl():
         yield
     finally:
         ou.setLogLevel(level)
+
+
+def _check_seed(seed) -> int:
+    if seed is None:
+        return 0
+    if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool):
+        raise TypeError(f"seed must be an integer, not {type(seed).__name__}")
+    return int(seed)
 
 
 def _ompl_seed(seed: int) -> int:
@@ -606,6 +617,7 @@ class OMPLPipeline:
         """
         cls_name = resolve_planner_id(planner_id)
         self._check_args(timeout, attempts, goal_joint_tolerance, "goal_joint_tolerance")
+        seed = _check_seed(seed)
         if not isinstance(goal, RobotState):
             raise TypeError(f"goal must be a RobotState, not {type(goal).__name__}")
         req, failure = self._prepare(scene, start, group, timeout, path_constraints)
@@ -645,6 +657,7 @@ class OMPLPipeline:
         """
         cls_name = resolve_planner_id(planner_id)
         self._check_args(timeout, attempts, goal_position_tolerance, "goal_position_tolerance")
+        seed = _check_seed(seed)
         self._check_args(timeout, attempts, goal_orientation_tolerance, "goal_orientation_tolerance")
         offset = np.eye(4) if offset is None else np.asarray(offset, dtype=float)
         target = np.asarray(target, dtype=float)
@@ -664,7 +677,7 @@ class OMPLPipeline:
     # ------------------------------------------------------------------ preparation
     @staticmethod
     def _check_args(timeout, attempts, tolerance, tolerance_name) -> None:
-        if not (isinstance(timeout, (int, float)) and timeout > 0):
+        if not (isinstance(timeout, (int, float, np.floating)) and timeout > 0):
             raise ValueError(f"timeout must be > 0 [s], got {timeout!r}")
         if not (isinstance(attempts, (int, np.integer)) and attempts >= 1):
             raise ValueError(f"attempts (num_planning_attempts) must be an integer >= 1, got {attempts!r}")
@@ -673,6 +686,10 @@ class OMPLPipeline:
 
     def _prepare(self, scene, start, group, timeout, path_constraints):
         t0 = time.perf_counter()
+        if not math.isfinite(timeout):
+            # an unbounded request (MTC's default timeout is infinite) still has to end when
+            # the problem has no solution: MoveIt's default allowed_planning_time
+            timeout = UNBOUNDED_TIMEOUT
         self.last_stats = PlanStats()
         if not isinstance(scene, PlanningScene):
             raise TypeError(f"scene must be a PlanningScene, not {type(scene).__name__}")
@@ -1056,8 +1073,101 @@ class OMPLPipeline:
 # Projection-based bidirectional RRT for position/orientation path constraints
 
 
+#: Step of the constrained planner along the manifold [rad, largest joint change].
+CONSTRAINED_STEP = 0.1
+
+
+class _Tree:
+    """Vertices (rows of a growing array) and parent indices of one search tree."""
+
+    def __init__(self, roots: list[np.ndarray]):
+        k = len(roots[0])
+        self._x = np.empty((max(64, 2 * len(roots)), k))
+        self.parent: list[int] = []
+        self.n = 0
+        for r in roots:
+            self.add(r, -1)
+
+    def add(self, x: np.ndarray, parent: int) -> int:
+        if self.n == len(self._x):
+            self._x = np.concatenate([self._x, np.empty_like(self._x)])
+        self._x[self.n] = x
+        self.parent.append(parent)
+        self.n += 1
+        return self.n - 1
+
+    def x(self, i: int) -> np.ndarray:
+        return self._x[i]
+
+    def nearest(self, x: np.ndarray) -> int:
+        d = np.abs(self._x[: self.n] - x).max(axis=1)
+        return int(np.argmin(d))
+
+    def branch(self, i: int) -> list[np.ndarray]:
+        """Vertices from ``i`` up to its root."""
+        out = []
+        while i >= 0:
+            out.append(self._x[i].copy())
+            i = self.parent[i]
+        return out
+
+
 def _constrained_rrt_connect(req: _Request, x_start, goals, rng: np.random.Generator, resolution: float):
-    """CBiRRT: two trees (start, goals) grown towards random samples and towards each other
-    in small steps, each step projected onto the constraint manifold by damped least squares
-    on the constraint violation. Returns (path, "") or (None, message)."""
-    raise NotImplementedError  # replaced below
+    """CBiRRT (Berenson et al. 2009): a start tree and a goal tree grown towards random states
+    and towards each other in steps of :data:`CONSTRAINED_STEP`, each new state projected onto
+    the path constraints (:meth:`ConstraintEvaluator.project`) and checked, with its edge from
+    the previous state, by the edge checker. Returns (path, "") or (None, message)."""
+    checker, evaluator = req.checker, req.evaluator
+    idx = req.group.variable_indices
+    lower, upper = req.lower, req.upper
+    base = req.base
+
+    def project(x: np.ndarray) -> np.ndarray | None:
+        q = base.copy()
+        q[idx] = x
+        out = evaluator.project(q, idx, lower, upper)
+        return None if out is None else out[idx]
+
+    def extend(tree: _Tree, i: int, target: np.ndarray, connect: bool) -> tuple[int, bool]:
+        """Grow ``tree`` from vertex ``i`` towards ``target``: (last vertex, reached)."""
+        current = tree.x(i).copy()
+        while time.perf_counter() < req.deadline:
+            gap = target - current
+            dist = float(np.max(np.abs(gap)))
+            if dist <= CONSTRAINED_STEP:
+                if checker.edge_ok(current, target):
+                    return tree.add(target.copy(), i), True
+                return i, False
+            proposal = project(current + gap * (CONSTRAINED_STEP / dist))
+            if proposal is None:
+                return i, False
+            # stop when the projection does not bring us closer (stuck on the manifold)
+            if float(np.max(np.abs(target - proposal))) >= dist - 1e-6:
+                return i, False
+            if not checker.edge_ok(current, proposal):
+                return i, False
+            i = tree.add(proposal, i)
+            current = proposal
+            if not connect:
+                return i, False
+        return i, False
+
+    trees = (_Tree([x_start]), _Tree(goals))
+    a, b = 0, 1
+    while time.perf_counter() < req.deadline:
+        sample = project(rng.uniform(lower, upper))
+        if sample is None:
+            continue
+        ta, tb = trees[a], trees[b]
+        new, _ = extend(ta, ta.nearest(sample), sample, connect=False)
+        if new >= 0 and new >= (1 if a == 0 else len(goals)):
+            x_new = ta.x(new).copy()
+            j, reached = extend(tb, tb.nearest(x_new), x_new, connect=True)
+            if reached:
+                # the branch in ta ends at x_new; the branch in tb ends at its copy of x_new
+                left, right = ta.branch(new), tb.branch(j)
+                start_side, goal_side = (left, right) if a == 0 else (right, left)
+                path = start_side[::-1] + goal_side[1:]
+                return np.asarray(path), ""
+        a, b = b, a
+    return None, f"TIMED_OUT: no solution found in {req.deadline - req.t0:.3g} s (constrained RRT-Connect)"
