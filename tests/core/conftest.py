@@ -23,3 +23,14 @@ def t():
 def _reset_mockup_ids():
     """Every test names its mockups from 1 (GEN1, CON1, ...)."""
     mockups.resetMockupIds()
+
+
+@pytest.fixture(params=["fast", "exact"])
+def pending_mode(request):
+    """Run a scheduler test with both implementations of Connecting's pending pairs."""
+    from mtc.core.stage import _PendingPairs
+
+    saved = _PendingPairs.FAST
+    _PendingPairs.FAST = request.param == "fast"
+    yield request.param
+    _PendingPairs.FAST = saved

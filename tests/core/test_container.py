@@ -45,6 +45,9 @@ _MAKERS = {
     CONN: ConnectMockup,
 }
 
+# every scheduler test runs with both implementations of the pending pairs
+pytestmark = pytest.mark.usefixtures("pending_mode")
+
 
 def append(container, types):
     for kind in types:

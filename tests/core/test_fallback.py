@@ -16,6 +16,9 @@ from mockups import (
 
 from mtc import core
 
+# every scheduler test runs with both implementations of the pending pairs
+pytestmark = pytest.mark.usefixtures("pending_mode")
+
 
 class Filter(core.WrapperBase):
     """A predicate filter (as stages.PredicateFilter): rejected child solutions become failures."""

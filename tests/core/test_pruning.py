@@ -18,6 +18,9 @@ from mockups import (
 
 from mtc import core
 
+# every scheduler test runs with both implementations of the pending pairs
+pytestmark = pytest.mark.usefixtures("pending_mode")
+
 
 @pytest.fixture
 def t():

@@ -22,6 +22,9 @@ from mockups import (
 from mtc import core
 from mtc.core.storage import Interface
 
+# every scheduler test runs with both implementations of the pending pairs
+pytestmark = pytest.mark.usefixtures("pending_mode")
+
 
 class StandaloneGenerator(GeneratorMockup):
     """A generator with its own push interfaces (MTC's StandaloneGeneratorMockup)."""

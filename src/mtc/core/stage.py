@@ -23,6 +23,7 @@ import math
 import numbers
 import time
 from bisect import bisect_left, bisect_right
+from heapq import heappop, heappush
 from collections.abc import Callable, Iterable
 from enum import IntEnum
 
@@ -960,12 +961,16 @@ class PropagatingBackward(PropagatingEitherWay):
 class _Pair:
     """A pending (start, end) pair of a Connecting stage."""
 
-    __slots__ = ("start", "end", "key", "alive")
+    __slots__ = ("start", "end", "key", "seq", "entry", "vs", "ve", "alive")
 
     def __init__(self, start: InterfaceState, end: InterfaceState):
         self.start = start
         self.end = end
         self.key = None
+        self.seq = None
+        self.entry = None
+        self.vs = 0
+        self.ve = 0
         self.alive = True
 
     def __iter__(self):
@@ -982,60 +987,121 @@ def _pair_key(pair: _Pair) -> tuple:
     Pairs with both states enabled come first; then the sum of both priorities decides
     (status = min of both, larger depth sum first, smaller cost sum first).
     """
-    a = pair.start._priority
-    b = pair.end._priority
+    return _key_of(pair.start._priority, pair.end._priority)
+
+
+def _key_of(a: Priority, b: Priority) -> tuple:
     sa, sb = a[0], b[0]
     return (0 if sa == 0 and sb == 0 else 1, sa if sa < sb else sb, a[1] + b[1], a[2] + b[2])
 
 
-class _PendingPairs:
-    """The pending pairs of a Connecting stage: MTC's ``ordered<StatePair>`` list.
+class _LazySeq:
+    """The order key a pending pair had before its last move, computed only when compared.
 
-    The list order is exactly MTC's: a new pair is inserted with ``upper_bound`` (after
-    equal ones); after a state's priority changes the list is stable-sorted. For speed,
-    each pair keeps the key it was positioned with; a stable sort after changes of some
-    states only moves the pairs of those states (a moved pair whose key got worse lands
-    at the front of its new group of equal keys, one whose key got better at the back, as
-    a stable sort places them). If states change priority without the list being
-    re-sorted (MTC does that in a few pruning situations) the list is no longer sorted
-    and the exact, slow algorithms of ``std::upper_bound`` and ``std::list::sort`` on
-    current keys are used until the next full sort.
+    Compared only between pairs moved in the same re-sort to equal keys (ties).
     """
 
-    __slots__ = ("_pairs", "_keys", "_sorted", "_by_state", "_foreign", "_owner")
+    __slots__ = ("_args", "_value")
+
+    def __init__(self, pending, pair, key, seq, i0, j0, i, j):
+        self._args = (pending, pair, key, seq, i0, j0, i, j)
+        self._value = None
+
+    def value(self):
+        if self._args is not None:
+            pending, pair, key, seq, i0, j0, i, j = self._args
+            self._value = pending._replay(pair, key, seq, i0, j0, i, j)[1]
+            self._args = None
+        return self._value
+
+    # the other side may be a materialized seq (a tuple) from a replay
+    def __eq__(self, other):
+        return self is other or self.value() == _seq_value(other)
+
+    def __lt__(self, other):
+        return self.value() < _seq_value(other)
+
+    def __gt__(self, other):
+        return self.value() > _seq_value(other)
+
+    def __le__(self, other):
+        return self.value() <= _seq_value(other)
+
+    def __ge__(self, other):
+        return self.value() >= _seq_value(other)
+
+    __hash__ = object.__hash__
+
+
+def _seq_value(seq):
+    return seq.value() if isinstance(seq, _LazySeq) else seq
+
+
+class _PendingPairs:
+    """The pending pairs of a Connecting stage, in MTC's order.
+
+    MTC keeps a ``std::list`` of pairs: a new pair is inserted with ``upper_bound`` (after
+    equal ones) and after every priority change of a state the whole list is stable-sorted.
+    Two implementations give exactly that order:
+
+    * fast mode (all states enabled, as always without pruning): each pair carries a total
+      order key ``(key, seq)`` where ``seq`` encodes the stable-sort history: a new pair is
+      last among equal keys; a pair whose key got worse in a re-sort lands first among its
+      new equals, one whose key got better last, both keeping their old relative order. The
+      pairs sit in a heap; a priority change of a state re-keys its pairs at once only if
+      it improved them, otherwise lazily when one of them reaches the top (a stale entry
+      is never better than the true key, so the top entry, once refreshed, is the front).
+    * exact mode (entered for good on any status change, silent priority change or foreign
+      pair): the plain list with the C++ algorithms on current keys, also reproducing
+      MTC's list when it is not sorted.
+    """
+
+    __slots__ = ("_owner", "_fast", "_heap", "_t", "_events", "_known", "_count",
+                 "_pairs", "_keys", "_sorted", "_by_state", "_foreign")
 
     def __init__(self, owner: "Connecting"):
         self._owner = owner
+        self.clear()
+
+    def clear(self) -> None:
+        self._fast = _PendingPairs.FAST
+        self._heap: list = []
+        self._t = 0
+        self._events: dict[InterfaceState, list] = {}  # state -> [(t, old prio, new prio)]
+        self._known: dict[InterfaceState, Priority] = {}  # state -> last seen priority
+        self._count = 0
         self._pairs: list[_Pair] = []
         self._keys: list[tuple] = []
         self._sorted = True
         self._by_state: dict[InterfaceState, list[_Pair]] = {}
         self._foreign = False
 
+    #: use the fast mode when possible (tests switch it off to compare both modes)
+    FAST = True
+
     def __len__(self) -> int:
-        return len(self._pairs)
+        return self._count if self._fast else len(self._pairs)
 
     def __iter__(self):
-        return iter(self._pairs)
+        return iter(self.ordered())
 
-    def clear(self) -> None:
-        for p in self._pairs:
-            p.alive = False
-        self._pairs.clear()
-        self._keys.clear()
-        self._by_state.clear()
-        self._sorted = True
-        self._foreign = False
+    def ordered(self) -> list[_Pair]:
+        """All pending pairs in processing order."""
+        if not self._fast:
+            return list(self._pairs)
+        live = [p for p in self._by_pairs() if p.alive]
+        for p in live:
+            self._refresh(p)
+        live.sort(key=lambda p: (p.key, p.seq))
+        return live
 
-    def front(self) -> _Pair:
-        return self._pairs[0]
-
-    def _index(self, pair: _Pair) -> int:
-        i = bisect_left(self._keys, pair.key)
-        pairs = self._pairs
-        while pairs[i] is not pair:
-            i += 1
-        return i
+    def _by_pairs(self):
+        seen = set()
+        for lst in self._by_state.values():
+            for p in lst:
+                if id(p) not in seen:
+                    seen.add(id(p))
+                    yield p
 
     def _register(self, pair: _Pair) -> None:
         by = self._by_state
@@ -1046,15 +1112,165 @@ class _PendingPairs:
             else:
                 lst.append(pair)
 
+    def _unregister(self, pair: _Pair) -> None:
+        for s in (pair.start, pair.end):
+            lst = self._by_state.get(s)
+            if lst is not None:
+                try:
+                    lst.remove(pair)
+                except ValueError:
+                    pass
+                if not lst:
+                    del self._by_state[s]
+
+    # --- fast mode --------------------------------------------------------------------------
+    def _prioAt(self, state: InterfaceState, version: int) -> Priority:
+        events = self._events.get(state)
+        if events is not None and version < len(events):
+            return events[version][1]
+        return state._priority
+
+    def _refresh(self, pair: _Pair) -> bool:
+        """Apply the state changes not yet seen by ``pair``; True if its (key, seq) changed.
+
+        Only the last change that moved the pair decides its place (the stable re-sort then
+        puts it first or last among its new equals); the order it had before that change
+        only breaks ties within the same re-sort, so it is kept as a lazily evaluated
+        :class:`_LazySeq`.
+        """
+        es = self._events.get(pair.start)
+        ee = self._events.get(pair.end)
+        ns = len(es) if es is not None else 0
+        ne = len(ee) if ee is not None else 0
+        i0, j0 = pair.vs, pair.ve
+        if i0 == ns and j0 == ne:
+            return False
+        # walk back from the current priorities to the last event that changed the key
+        ps = pair.start._priority
+        pe = pair.end._priority
+        after = _key_of(ps, pe)
+        i, j = ns, ne
+        while i > i0 or j > j0:
+            if j <= j0 or (i > i0 and es[i - 1][0] > ee[j - 1][0]):
+                i -= 1
+                t, ps, _new = es[i]
+            else:
+                j -= 1
+                t, pe, _new = ee[j]
+            before = _key_of(ps, pe)
+            if before != after:
+                # the key before this event and the seq it had then (evaluated when needed)
+                lazy = _LazySeq(self, pair, pair.key, pair.seq, i0, j0, i, j)
+                pair.seq = (-t, before, lazy) if before < after else (t, before, lazy)
+                pair.key = after
+                pair.vs, pair.ve = ns, ne
+                return True
+        pair.vs, pair.ve = ns, ne
+        return False
+
+    def _replay(self, pair: _Pair, key, seq, i: int, j: int, ns: int, ne: int):
+        """(key, seq) of ``pair`` after the events [i, ns) of its start and [j, ne) of its end."""
+        es = self._events.get(pair.start)
+        ee = self._events.get(pair.end)
+        ps = es[i][1] if i < ns else self._prioAt(pair.start, ns)
+        pe = ee[j][1] if j < ne else self._prioAt(pair.end, ne)
+        while i < ns or j < ne:
+            if j >= ne or (i < ns and es[i][0] < ee[j][0]):
+                t, _old, ps = es[i]
+                i += 1
+            else:
+                t, _old, pe = ee[j]
+                j += 1
+            new = _key_of(ps, pe)
+            if new != key:
+                # stable re-sort: worse keys go first among their new equals, better last
+                seq = (-t, key, seq) if key < new else (t, key, seq)
+                key = new
+        return key, seq
+
+    def _push(self, pair: _Pair) -> None:
+        entry = (pair.key, pair.seq, pair)
+        pair.entry = entry
+        heappush(self._heap, entry)
+
+    def _top(self) -> _Pair | None:
+        heap = self._heap
+        while heap:
+            key, seq, pair = heap[0]
+            if pair.entry is not heap[0]:
+                heappop(heap)  # superseded or popped
+                continue
+            if self._refresh(pair):
+                heappop(heap)
+                self._push(pair)
+                continue
+            return pair
+        return None
+
+    def _stateChanged(self, state: InterfaceState) -> None:
+        """A state's priority changed (and MTC re-sorts): record it, re-key improved pairs."""
+        old = self._known.get(state)
+        new = state._priority
+        self._known[state] = new
+        if old is None or old == new:
+            return
+        self._t += 1
+        events = self._events.get(state)
+        if events is None:
+            self._events[state] = [(self._t, old, new)]
+        else:
+            events.append((self._t, old, new))
+        # depth decides first (larger is better), then cost (smaller is better)
+        better = new[1] < old[1] or (new[1] == old[1] and new[2] < old[2])
+        if better:
+            for p in self._by_state.get(state, ()):
+                if self._refresh(p):
+                    self._push(p)
+
+    def _toExact(self) -> None:
+        """Switch to the exact list mode for good."""
+        if not self._fast:
+            return
+        pairs = self.ordered()
+        self._fast = False
+        self._heap = []
+        self._events = {}
+        self._known = {}
+        self._pairs = pairs
+        self._keys = [p.key for p in pairs]
+        self._sorted = True
+
+    # --- MTC operations -------------------------------------------------------------------
+    def noteState(self, state: InterfaceState) -> None:
+        """A new state arrived in one of the owner's interfaces."""
+        if self._fast:
+            if state._priority[0] != 0:
+                self._toExact()
+            else:
+                self._known[state] = state._priority
+
     def insert(self, start: InterfaceState, end: InterfaceState) -> _Pair:
         pair = _Pair(start, end)
         owner = self._owner
         if start._owner is not owner._starts or end._owner is not owner._ends:
             # pairs of another stage's states (Fallbacks' CONNECT variant): their priority
             # changes are not notified here, so keys can go stale at any time
+            self._toExact()
             self._foreign = True
             self._sorted = False
-        if self._sorted:
+        if self._fast and (start._priority[0] != 0 or end._priority[0] != 0):
+            self._toExact()
+        if self._fast:
+            self._t += 1
+            pair.key = _pair_key(pair)
+            pair.seq = (self._t,)  # after all equal pairs
+            es = self._events.get(start)
+            ee = self._events.get(end)
+            pair.vs = len(es) if es is not None else 0
+            pair.ve = len(ee) if ee is not None else 0
+            self._push(pair)
+            self._count += 1
+        elif self._sorted:
             key = _pair_key(pair)
             pair.key = key
             i = bisect_right(self._keys, key)
@@ -1081,42 +1297,53 @@ class _PendingPairs:
                 length = length - half - 1
         return first
 
+    def front(self) -> _Pair | None:
+        """The first pair (None if there is none)."""
+        if self._fast:
+            return self._top()
+        return self._pairs[0] if self._pairs else None
+
     def pop(self) -> _Pair:
-        pair = self._pairs.pop(0)
-        if self._sorted:
-            del self._keys[0]
+        if self._fast:
+            pair = self._top()
+            heappop(self._heap)
+            pair.entry = None
+            self._count -= 1
+        else:
+            pair = self._pairs.pop(0)
+            if self._sorted:
+                del self._keys[0]
         pair.alive = False
-        for s in (pair.start, pair.end):
-            lst = self._by_state.get(s)
-            if lst is not None:
-                try:
-                    lst.remove(pair)
-                except ValueError:
-                    pass
-                if not lst:
-                    del self._by_state[s]
+        self._unregister(pair)
         return pair
 
     def pairsOf(self, state: InterfaceState) -> list[_Pair]:
         """Pending pairs containing ``state``, in list order."""
+        self._toExact()
         lst = self._by_state.get(state)
         if not lst:
             return []
-        if len(lst) == 1:
-            return list(lst)
-        order = {id(p): i for i, p in enumerate(self._pairs)} if not self._sorted else None
-        if order is not None:
-            return sorted(lst, key=lambda p: order[id(p)])
-        return sorted(lst, key=lambda p: (p.key, self._index(p)))
+        order = {id(p): i for i, p in enumerate(self._pairs)}
+        return sorted(lst, key=lambda p: order[id(p)])
+
+    def markStatusChange(self) -> None:
+        """A state's status changed: only the exact mode handles that."""
+        self._toExact()
 
     def markUnsorted(self) -> None:
         """Keys changed without a re-sort (MTC leaves its list unsorted then)."""
+        self._toExact()
         if self._sorted:
             self._sorted = False
             self._keys.clear()
 
-    def sort(self, changed: Iterable[InterfaceState]) -> None:
+    def sort(self, changed: list[InterfaceState]) -> None:
         """Stable re-sort after the priorities of ``changed`` states changed."""
+        if self._fast:
+            if len(changed) == 1 and changed[0]._priority[0] == 0:
+                self._stateChanged(changed[0])
+                return
+            self._toExact()
         if not self._sorted or self._foreign:
             self._full_sort()
             return
@@ -1160,6 +1387,13 @@ class _PendingPairs:
             pairs.insert(j, p)
             p.key = new
 
+    def _index(self, pair: _Pair) -> int:
+        i = bisect_left(self._keys, pair.key)
+        pairs = self._pairs
+        while pairs[i] is not pair:
+            i += 1
+        return i
+
     def _full_sort(self) -> None:
         pairs = self._pairs
         for p in pairs:
@@ -1172,6 +1406,7 @@ class _PendingPairs:
 
     def hasPendingOpposites(self, direction: int, source, target) -> bool:
         """MTC's ``hasPendingOpposites<dir>``: is ``target`` still paired with another enabled state?"""
+        self._toExact()
         for pair in self._pairs:
             if direction == FORWARD:
                 src, tgt = pair.start, pair.end
@@ -1185,7 +1420,7 @@ class _PendingPairs:
         return False
 
     def __repr__(self) -> str:
-        return " ".join(repr(p) for p in self._pairs) or "---"
+        return " ".join(repr(p) for p in self.ordered()) or "---"
 
 
 class Connecting(ComputeBase):
@@ -1214,11 +1449,8 @@ class Connecting(ComputeBase):
         super()._resetBookkeeping()
 
     def _canCompute(self) -> bool:
-        pairs = self._pending._pairs
-        if not pairs:
-            return False
-        front = pairs[0]
-        return front.start._priority[0] == 0 and front.end._priority[0] == 0
+        front = self._pending.front()
+        return front is not None and front.start._priority[0] == 0 and front.end._priority[0] == 0
 
     def _compute(self) -> None:
         pair = self._pending.pop()
@@ -1244,58 +1476,80 @@ class Connecting(ComputeBase):
 
     def _newState(self, direction: int, state: InterfaceState, updated: int) -> None:
         # direction BACKWARD: a start state (its opposites are the ends), FORWARD: an end state
-        parent = self._parent
         own = self._starts if direction == BACKWARD else self._ends
         other = self._ends if direction == BACKWARD else self._starts
         pending = self._pending
+        if updated == Interface.PRIORITY and pending._fast and not other._silent and not own._silent:
+            # the common case: a priority change only re-sorts the pending pairs
+            pending._stateChanged(state)
+            return
         # disable the opposite interface's notifications to break the recursion
-        with other.disableNotify():
+        saved = other.notify
+        other.notify = None
+        other._disabled += 1
+        try:
             if updated:
-                if (updated & Interface.STATUS) and own.notify is not None:
-                    status = state._priority[0]
-                    if status == 2:  # PRUNED becomes ARMED on the opposite side
-                        status = 1
-                    for pair in pending.pairsOf(state):
-                        o = pair.end if direction == BACKWARD else pair.start
-                        if o._priority[0] == status:
-                            continue
-                        if status != 0:
-                            # an enabled alternative in the state's own interface cancels
-                            if any(alt._priority[0] == 0 for alt in own._states):
-                                continue
-                        # FORWARD for a start state's opposite, BACKWARD for an end state's
-                        parent._setStatus(1 - direction, None, None, o, status)
-                changed = [state, *other._silent, *own._silent]
-                other._silent.clear()
-                own._silent.clear()
-                pending.sort(changed)
+                self._updatedState(direction, state, updated, own, other)
             else:
-                have_enabled_opposites = False
-                to_enable = []
-                for o in list(other._states):
-                    # as MTC: the new state is always the first argument
-                    if not self.compatible(state, o):
+                self._addedState(direction, state, own, other)
+        finally:
+            other._disabled -= 1
+            other.notify = saved
+
+    def _updatedState(self, direction, state, updated, own, other) -> None:
+        parent = self._parent
+        pending = self._pending
+        if updated & Interface.STATUS:
+            pending.markStatusChange()
+            if own.notify is not None:  # not a recursive notification
+                status = state._priority[0]
+                if status == 2:  # PRUNED becomes ARMED on the opposite side
+                    status = 1
+                for pair in pending.pairsOf(state):
+                    o = pair.end if direction == BACKWARD else pair.start
+                    if o._priority[0] == status:
                         continue
-                    ostatus = o._priority[0]
-                    if ostatus == 1:  # ARMED: re-enable
-                        to_enable.append(o)
-                        have_enabled_opposites = True
-                    elif ostatus == 0:
-                        have_enabled_opposites = True
-                    # remember all pairs, whatever their status
-                    if direction == BACKWARD:
-                        pending.insert(state, o)
-                    else:
-                        pending.insert(o, state)
-                for o in to_enable:
-                    parent._setStatus(1 - direction, self, state, o, 0)
-                if not have_enabled_opposites and parent is not None and parent._pruning():
-                    parent._setStatus(direction, None, None, state, 1)
-                if other._silent or own._silent:
-                    # MTC does not re-sort here: its list is now unsorted
-                    other._silent.clear()
-                    own._silent.clear()
-                    pending.markUnsorted()
+                    if status != 0:
+                        # an enabled alternative in the state's own interface cancels
+                        if any(alt._priority[0] == 0 for alt in own._states):
+                            continue
+                    # FORWARD for a start state's opposite, BACKWARD for an end state's
+                    parent._setStatus(1 - direction, None, None, o, status)
+        changed = [state, *other._silent, *own._silent]
+        other._silent.clear()
+        own._silent.clear()
+        pending.sort(changed)
+
+    def _addedState(self, direction, state, own, other) -> None:
+        parent = self._parent
+        pending = self._pending
+        pending.noteState(state)
+        have_enabled_opposites = False
+        to_enable = []
+        for o in list(other._states):
+            # as MTC: the new state is always the first argument
+            if not self.compatible(state, o):
+                continue
+            ostatus = o._priority[0]
+            if ostatus == 1:  # ARMED: re-enable
+                to_enable.append(o)
+                have_enabled_opposites = True
+            elif ostatus == 0:
+                have_enabled_opposites = True
+            # remember all pairs, whatever their status
+            if direction == BACKWARD:
+                pending.insert(state, o)
+            else:
+                pending.insert(o, state)
+        for o in to_enable:
+            parent._setStatus(1 - direction, self, state, o, 0)
+        if not have_enabled_opposites and parent is not None and parent._pruning():
+            parent._setStatus(direction, None, None, state, 1)
+        if other._silent or own._silent:
+            # MTC does not re-sort here: its list is now unsorted
+            other._silent.clear()
+            own._silent.clear()
+            pending.markUnsorted()
 
     def hasPendingOpposites(self, direction: int, source, target) -> bool:
         """Whether ``target`` still has an enabled partner other than ``source`` (§1.6)."""
