@@ -14,7 +14,7 @@ from mtc.planners.time_parameterization import (
     limit_cartesian_speed,
     synchronized_ptp,
     time_parameterize,
-    trapezoid_profile,
+    TrapezoidProfile,
 )
 from mtc.scene.robot_model import RobotModel
 from mtc.scene.robot_state import RobotState
@@ -208,11 +208,17 @@ def test_synchronized_ptp_is_a_shared_trapezoid():
 
 
 def test_trapezoid_profile_with_deceleration():
-    """Accelerate, cruise and brake with different rates over a given length."""
-    duration, f = trapezoid_profile(1.0, 0.5, 2.25, 5.0)
+    """Accelerate, cruise and brake with different rates; time_at inverts the motion."""
+    profile = TrapezoidProfile(1.0, 0.5, 2.25, 5.0)
+    duration = profile.duration
     assert duration == pytest.approx(0.5 / 2.25 + 0.5 / 5.0 + (1 - 0.5**2 / 4.5 - 0.5**2 / 10) / 0.5)
-    assert f(0.0)[0] == 0.0 and f(duration)[0] == pytest.approx(1.0)
-    assert f(duration / 2)[1] == pytest.approx(0.5)
+    assert profile.at_time(0.0)[0] == 0.0 and profile.at_time(duration)[0] == pytest.approx(1.0)
+    assert profile.at_time(duration / 2)[1] == pytest.approx(0.5)
+    assert profile.at_time(0.05)[2] == pytest.approx(2.25) and profile.at_time(duration - 0.01)[2] == pytest.approx(-5.0)
+    for s in (0.0, 0.01, 0.3, 0.99, 1.0):
+        assert profile.at_time(profile.time_at(s))[0] == pytest.approx(s, abs=1e-9)
+    with pytest.raises(ValueError, match="positive length and limits"):
+        TrapezoidProfile(1.0, 0.0, 1.0)
 
 
 @pytest.fixture(scope="module")

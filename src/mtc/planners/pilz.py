@@ -7,9 +7,11 @@
   synchronization, unlimited jerk). A pose goal is turned into a joint goal by IK first.
 * ``LIN``: the frame moves on a straight Cartesian line (position linear, orientation by
   slerp) with a trapezoidal speed profile under the scaled Cartesian limits
-  (:class:`CartesianLimits`). Every sample is solved by IK from the previous one; the planner
-  fails if IK fails or jumps anywhere on the line. Where the line would need faster joints than
-  their scaled limits, the whole motion is slowed down uniformly (as Pilz adapts its timing).
+  (:class:`CartesianLimits`). The waypoints are evenly spaced along the line (at most
+  ``max_cartesian_step`` / ``max_rotation_step`` apart), each solved by IK from the previous one;
+  the planner fails if IK fails or jumps anywhere on the line. Where the line would need faster
+  joints than their scaled limits, the trapezoid's speed and acceleration are lowered until they
+  do not (as Pilz adapts its timing).
 * ``CIRC``: the frame moves on a circular arc, orientation by slerp, with the same speed profile.
   As in Pilz, the arc is given through the request's path constraints: ``path_constraints.name``
   is ``"interim"`` (a point the arc passes through) or ``"center"`` (the circle's centre; start and
@@ -38,7 +40,7 @@ import pinocchio as pin
 from mtc import msgs
 from mtc.planners import ik
 from mtc.planners.planner_interface import PathValidity, PlannerResult, error_message
-from mtc.planners.time_parameterization import synchronized_ptp, time_parameterize, trapezoid_profile
+from mtc.planners.time_parameterization import TrapezoidProfile, synchronized_ptp, time_parameterize
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
@@ -405,7 +407,7 @@ class PilzPipeline:
         rot_v = lim.max_rot_vel * vs
         rot_a = lim.max_trans_acc / lim.max_trans_vel * lim.max_rot_vel * acs
         rot_d = -lim.max_trans_dec / lim.max_trans_vel * lim.max_rot_vel * acs
-        # limits on the path parameter s in [0, 1] (whichever of translation and rotation is slower)
+        # limits on the path fraction s in [0, 1] (whichever of translation and rotation is slower)
         v_s, a_s, d_s = math.inf, math.inf, math.inf
         if length > 1e-9:
             v_s, a_s, d_s = min(v_s, trans_v / length), min(a_s, trans_a / length), min(d_s, trans_d / length)
@@ -418,22 +420,21 @@ class PilzPipeline:
             self._check_path(validity, Q, skip_constraints=is_circ)
             zeros = np.zeros((1, len(idx)))
             return PlannerResult(True, ""), self._trajectory(start, jmg, Q, [0.0], zeros, zeros)
-        duration, profile = trapezoid_profile(1.0, v_s, a_s, d_s)
-        steps = max(
-            1,
-            math.ceil(duration / self.sampling_time - 1e-9),
-            math.ceil(v_s * duration * length / self.max_cartesian_step - 1e-9),
-            math.ceil(v_s * duration * rot_angle / self.max_rotation_step - 1e-9),
-        )
-        times = np.linspace(0.0, duration, steps + 1)
-        S = np.array([profile(t) for t in times])
-        S[0], S[-1] = (0.0, 0.0, S[0][2]), (1.0, 0.0, S[-1][2])
 
+        # the geometry first: waypoints evenly spaced along the path, each solved by IK
+        duration = TrapezoidProfile(1.0, v_s, a_s, d_s).duration
+        steps = max(
+            2,
+            math.ceil(length / self.max_cartesian_step - 1e-9),
+            math.ceil(rot_angle / self.max_rotation_step - 1e-9),
+            math.ceil(duration / self.sampling_time - 1e-9),
+        )
+        fractions = np.linspace(0.0, 1.0, steps + 1)
         Q = [start_q]
-        for k in range(1, len(times)):
+        for k in range(1, len(fractions)):
             if time.perf_counter() > deadline:
                 raise _Failure(error_message("TIMED_OUT", f"{planner_id} took longer than the timeout"), Q)
-            s = float(S[k, 0])
+            s = float(fractions[k])
             q = Q[-1].copy()
             if not solver.descend(q, frame_pose(s) * inv_offset):
                 raise _Failure(error_message(
@@ -442,7 +443,7 @@ class PilzPipeline:
             qm = 0.5 * (Q[-1] + q)
             model.enforce_mimic(qm)
             actual = solver.forward(qm) * to_frame
-            expected = frame_pose(0.5 * (float(S[k - 1, 0]) + s))
+            expected = frame_pose(0.5 * (float(fractions[k - 1]) + s))
             if np.linalg.norm(actual.translation - expected.translation) > 1e-3 or np.linalg.norm(
                 pin.log3(expected.rotation.T @ actual.rotation)
             ) > 1e-2:
@@ -452,33 +453,39 @@ class PilzPipeline:
             Q.append(q)
         self._check_path(validity, Q, skip_constraints=is_circ)
 
-        # joint velocities and accelerations along the path: q(s(t)) with s(t) the profile
+        # then the timing: s(t) a trapezoid, joint motion q(s(t)), slowed where the joints cannot follow
         P = np.array([q[idx] for q in Q])
         cont = model.continuous_mask[idx]
         if cont.any():
             d = np.diff(P[:, cont], axis=0)
             P[1:, cont] = P[0, cont] + np.cumsum((d + np.pi) % (2 * np.pi) - np.pi, axis=0)
-        s_vals = S[:, 0]
-        unique = np.concatenate(([True], np.diff(s_vals) > 1e-12))
-        dq = np.zeros_like(P)
-        ddq = np.zeros_like(P)
-        if unique.sum() >= 3:
-            su, Pu = s_vals[unique], P[unique]
-            d1 = np.gradient(Pu, su, axis=0)
-            d2 = np.gradient(d1, su, axis=0)
-            pos = np.cumsum(unique) - 1
-            dq, ddq = d1[pos], d2[pos]
-        elif unique.sum() == 2:
-            dq[:] = (P[-1] - P[0]) / (s_vals[-1] - s_vals[0])
-        V = dq * S[:, 1:2]
-        A = ddq * S[:, 1:2] ** 2 + dq * S[:, 2:3]
+        dq = np.gradient(P, fractions, axis=0)
+        ddq = np.gradient(dq, fractions, axis=0)
         vmax = model.velocity_limits[idx] * vs
         amax = model.acceleration_limits[idx] * acs
-        # slow the whole motion down where the joints cannot follow (as Pilz scales its timing)
-        scale = max(1.0, float(np.max(np.abs(V) / vmax)), math.sqrt(float(np.max(np.abs(A) / amax))))
-        if scale > 1.0:
-            times = times * scale
-            V = V / scale
-            A = A / (scale * scale)
+        times, V, A = self._time_path(dq, ddq, fractions, v_s, a_s, d_s, vmax, amax)
         return PlannerResult(True, ""), self._trajectory(start, jmg, Q, times, V, A)
 
+    @staticmethod
+    def _time_path(dq, ddq, fractions, v_s, a_s, d_s, vmax, amax):
+        """Times, velocities and accelerations of the waypoints at ``fractions`` under a
+        trapezoid of the fraction; the trapezoid's limits shrink until the joints keep theirs
+        (as Pilz adapts its timing where the joint limits would be violated)."""
+        for _ in range(8):
+            profile = TrapezoidProfile(1.0, v_s, a_s, d_s)
+            times = np.array([profile.time_at(float(s)) for s in fractions])
+            S = np.array([profile.at_time(t) for t in times])
+            V = dq * S[:, 1:2]
+            A = ddq * S[:, 1:2] ** 2 + dq * S[:, 2:3]
+            rv = float(np.max(np.abs(V) / vmax))
+            ra = float(np.max(np.abs(A) / amax))
+            if rv <= 1.0 + 1e-9 and ra <= 1.0 + 1e-9:
+                return times, V, A
+            if rv > 1.0:
+                v_s /= rv * (1.0 + 1e-6)
+            if ra > 1.0:
+                a_s /= ra * (1.0 + 1e-6)
+                d_s /= ra * (1.0 + 1e-6)
+        # still too fast (curvature terms): stretch time uniformly, which scales V by 1/λ, A by 1/λ²
+        scale = max(1.0, rv, math.sqrt(ra)) * (1.0 + 1e-9)
+        return times * scale, V / scale, A / (scale * scale)

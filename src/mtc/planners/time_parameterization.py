@@ -21,8 +21,9 @@ A Cartesian speed limit on a link (MTC's ``max_cartesian_speed`` for
 the spline of the link's positions.
 
 Ruckig (the only ruckig user in ``mtc`` is this module) does state-to-state motions: it
-cannot follow a given path, so it serves :func:`synchronized_ptp` (Pilz's PTP: all joints
-start and stop together on the straight joint-space line) and :func:`trapezoid_profile`.
+cannot follow a given path, so it serves :class:`TrapezoidProfile` (one coordinate rest to
+rest, for Pilz's LIN and CIRC) and :func:`synchronized_ptp` (Pilz's PTP: all joints start and
+stop together on the straight joint-space line).
 """
 
 from __future__ import annotations
@@ -44,7 +45,7 @@ __all__ = [
     "time_parameterize",
     "limit_cartesian_speed",
     "synchronized_ptp",
-    "trapezoid_profile",
+    "TrapezoidProfile",
     "check_scaling_factor",
 ]
 
@@ -370,13 +371,57 @@ def limit_cartesian_speed(
 # ruckig: synchronized point-to-point motions
 
 
+class TrapezoidProfile:
+    """Rest-to-rest motion of one coordinate from 0 to ``length`` (> 0) with a trapezoidal speed
+    profile: accelerate with ``amax``, cruise at ``vmax`` (if there is room), brake with ``dmax``
+    (default ``amax``). Computed by ruckig with unlimited jerk.
+
+    Attributes:
+        duration: time of the motion [s].
+    """
+
+    def __init__(self, length: float, vmax: float, amax: float, dmax: float | None = None):
+        if not (length > 0 and vmax > 0 and amax > 0 and (dmax is None or dmax > 0)):
+            raise ValueError(
+                f"a trapezoid profile needs positive length and limits, got {length}, {vmax}, {amax}, {dmax}"
+            )
+        self.length = float(length)
+        otg = ruckig.Ruckig(1)
+        inp = ruckig.InputParameter(1)
+        inp.current_position = [0.0]
+        inp.target_position = [self.length]
+        inp.max_velocity = [float(vmax)]
+        inp.max_acceleration = [float(amax)]
+        inp.min_acceleration = [-float(amax if dmax is None else dmax)]
+        inp.max_jerk = [math.inf]  # infinite jerk: a trapezoidal velocity profile
+        self._traj = ruckig.Trajectory(1)
+        result = otg.calculate(inp, self._traj)
+        if result not in (ruckig.Result.Working, ruckig.Result.Finished):
+            raise RuntimeError(f"ruckig could not compute the profile: {result}")
+        self.duration = float(self._traj.duration)
+
+    def at_time(self, t: float) -> tuple[float, float, float]:
+        """``(s, ṡ, s̈)`` at time ``t`` (clamped into [0, duration])."""
+        p, v, a = self._traj.at_time(min(max(float(t), 0.0), self.duration))
+        return float(p[0]), float(v[0]), float(a[0])
+
+    def time_at(self, s: float) -> float:
+        """The time at which the coordinate reaches ``s`` (in [0, length])."""
+        if s >= self.length:
+            return self.duration
+        if s <= 0.0:
+            return 0.0
+        t = self._traj.get_first_time_at_position(0, float(s))
+        return self.duration if t is None else float(t)
+
+
 def synchronized_ptp(
     start: np.ndarray, goal: np.ndarray, vmax: np.ndarray, amax: np.ndarray, dmax: np.ndarray | None = None
 ):
     """A time-optimal rest-to-rest motion on the straight line from ``start`` to ``goal`` with
     trapezoidal velocity profiles that all joints share (fully synchronized, as Pilz's PTP):
-    ``q(t) = start + σ(t) (goal - start)`` with one trapezoid ``σ(t)`` from 0 to 1 whose speed and
-    acceleration are the largest every joint allows.
+    ``q(t) = start + σ(t) (goal - start)`` with one :class:`TrapezoidProfile` ``σ(t)`` from 0 to 1
+    whose speed and acceleration are the largest every joint allows.
 
     Args:
         start, goal: positions.
@@ -395,47 +440,15 @@ def synchronized_ptp(
         return 0.0, lambda t: (goal.copy(), np.zeros(n), np.zeros(n))
     span = np.abs(delta[moving])
     dmax = amax if dmax is None else dmax
-    v_s = float(np.min(np.asarray(vmax, dtype=float)[moving] / span))
-    a_s = float(np.min(np.asarray(amax, dtype=float)[moving] / span))
-    d_s = float(np.min(np.asarray(dmax, dtype=float)[moving] / span))
-    duration, profile = trapezoid_profile(1.0, v_s, a_s, d_s)
+    profile = TrapezoidProfile(
+        1.0,
+        float(np.min(np.asarray(vmax, dtype=float)[moving] / span)),
+        float(np.min(np.asarray(amax, dtype=float)[moving] / span)),
+        float(np.min(np.asarray(dmax, dtype=float)[moving] / span)),
+    )
 
     def sample(t: float):
-        s, sd, sdd = profile(t)
+        s, sd, sdd = profile.at_time(t)
         return start + s * delta, sd * delta, sdd * delta
 
-    return duration, sample
-
-
-def _ruckig_rest_to_rest(length: float, vmax: float, amax: float, dmax: float):
-    """One axis from 0 to ``length`` at rest, with unlimited jerk (a trapezoidal profile)."""
-    otg = ruckig.Ruckig(1)
-    inp = ruckig.InputParameter(1)
-    inp.current_position = [0.0]
-    inp.target_position = [float(length)]
-    inp.max_velocity = [float(vmax)]
-    inp.max_acceleration = [float(amax)]
-    inp.min_acceleration = [-float(dmax)]
-    inp.max_jerk = [math.inf]  # infinite jerk: trapezoidal velocity profile
-    traj = ruckig.Trajectory(1)
-    result = otg.calculate(inp, traj)
-    if result not in (ruckig.Result.Working, ruckig.Result.Finished):
-        raise RuntimeError(f"ruckig could not compute the profile: {result}")
-    return traj
-
-
-def trapezoid_profile(length: float, vmax: float, amax: float, dmax: float | None = None):
-    """Rest-to-rest motion over ``length`` (> 0) with a trapezoidal speed profile: accelerate
-    with ``amax``, cruise at ``vmax``, brake with ``dmax`` (default ``amax``); by ruckig.
-
-    Returns:
-        ``(duration, sample)`` with ``sample(t) -> (s, ṡ, s̈)``.
-    """
-    traj = _ruckig_rest_to_rest(length, vmax, amax, amax if dmax is None else dmax)
-    duration = float(traj.duration)
-
-    def sample(t: float):
-        p, v, a = traj.at_time(min(max(float(t), 0.0), duration))
-        return float(p[0]), float(v[0]), float(a[0])
-
-    return duration, sample
+    return profile.duration, sample

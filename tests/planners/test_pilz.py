@@ -1,0 +1,302 @@
+"""Tests of the Pilz pipeline: PTP, LIN and CIRC geometry, limits and failure messages."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from mtc import msgs
+from mtc.planners import PipelinePlanner
+from mtc.planners.pilz import CartesianLimits
+
+ARM = "panda_arm"
+
+
+def _pilz(planner_id, vs=1.0, acs=1.0):
+    planner = PipelinePlanner("pilz_industrial_motion_planner")
+    planner.planner = planner_id
+    planner.max_velocity_scaling_factor = vs
+    planner.max_acceleration_scaling_factor = acs
+    return planner
+
+
+def _limits(panda, vs=1.0, acs=1.0):
+    idx = panda.get_joint_model_group(ARM).variable_indices
+    return panda.velocity_limits[idx] * vs, panda.acceleration_limits[idx] * acs
+
+
+def _goal(scene, **joints):
+    goal = scene.diff()
+    goal.current_state.set_variable_positions(joints)
+    return goal
+
+
+def _tip_positions(traj, link="panda_link8"):
+    return np.array([w.get_global_link_transform(link)[:3, 3] for w in traj])
+
+
+def _circ_constraints(kind, point, frame="world"):
+    return msgs.Constraints(
+        name=kind,
+        position_constraints=[
+            msgs.PositionConstraint(
+                header=msgs.Header(frame_id=frame),
+                link_name="panda_link8",
+                constraint_region=msgs.BoundingVolume(
+                    primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.SPHERE, dimensions=[0.01])],
+                    primitive_poses=[msgs.Pose(position=msgs.Point(*point), orientation=msgs.Quaternion(w=1.0))],
+                ),
+            )
+        ],
+    )
+
+
+# ----------------------------------------------------------------------------------------- PTP
+
+
+def test_ptp_is_a_synchronized_straight_joint_line(panda, ready_scene):
+    """PTP: all joints on the straight joint-space line, one shared trapezoid, within scaled limits."""
+    goal = _goal(ready_scene, panda_joint1=1.0, panda_joint2=-0.2, panda_joint6=2.0)
+    result, traj = _pilz("PTP", 0.5, 0.5).plan(ready_scene, goal, ARM, 1.0)
+    assert result and result.message == ""
+    Q = traj.positions
+    q0, q1 = Q[0], Q[-1]
+    assert np.array_equal(traj[-1].positions, goal.current_state.positions)
+    delta = q1 - q0
+    fractions = (Q - q0)[:, delta != 0] / delta[delta != 0]
+    assert np.allclose(fractions, fractions[:, :1], atol=1e-9)  # the same fraction for every joint
+    vmax, amax = _limits(panda, 0.5, 0.5)
+    assert np.all(np.abs(traj.velocities) <= vmax + 1e-9)
+    assert np.all(np.abs(traj.accelerations) <= amax + 1e-9)
+    assert np.allclose(traj.velocities[0], 0) and np.allclose(traj.velocities[-1], 0)
+    # velocities are parallel to the line: the joints are synchronized
+    V = traj.velocities[:, delta != 0] / delta[delta != 0]
+    assert np.allclose(V, V[:, :1], atol=1e-9)
+    # some joint reaches its velocity limit in the cruise phase (time-optimal trapezoid)
+    assert np.max(np.abs(traj.velocities) / vmax) == pytest.approx(1.0, abs=1e-6)
+
+
+def test_ptp_scaling_slows_down(ready_scene):
+    """Lower scaling factors give a longer PTP motion."""
+    goal = _goal(ready_scene, panda_joint1=1.0)
+    fast = _pilz("PTP").plan(ready_scene, goal, ARM, 1.0)[1].duration
+    slow = _pilz("PTP", 0.1, 0.1).plan(ready_scene, goal, ARM, 1.0)[1].duration
+    assert slow > 5 * fast
+
+
+def test_ptp_pose_goal(ready_scene):
+    """A pose goal is reached by IK first."""
+    target = ready_scene.current_state.get_global_link_transform("panda_hand_tcp")
+    target[:3, 3] += [0.1, -0.1, -0.05]
+    result, traj = _pilz("PTP").plan_to_pose(ready_scene, "panda_hand_tcp", np.eye(4), target, ARM, 1.0)
+    assert result
+    assert np.allclose(traj[-1].get_global_link_transform("panda_hand_tcp"), target, atol=1e-5)
+
+
+def test_ptp_collision_on_the_way(ready_scene, add_box):
+    """An obstacle on the PTP path fails with the waypoint and the colliding bodies; the valid
+    part is returned, ending at rest."""
+    goal = _goal(ready_scene, panda_joint1=1.5)
+    middle = ready_scene.current_state.interpolate(goal.current_state, 0.5)
+    add_box(ready_scene, "pillar", middle.get_global_link_transform("panda_hand")[:3, 3], (0.1, 0.1, 0.1))
+    result, traj = _pilz("PTP").plan(ready_scene, goal, ARM, 1.0)
+    assert not result
+    assert result.message.startswith("INVALID_MOTION_PLAN: waypoint ")
+    assert "is in collision: " in result.message and "pillar" in result.message
+    assert 1 < len(traj) and not any(ready_scene.is_state_colliding(w, ARM) for w in traj)
+    assert np.allclose(traj.velocities[-1], 0)
+
+
+def test_ptp_start_and_goal_checks(ready_scene, add_box):
+    """A colliding start or goal, and a goal out of bounds, fail with MoveIt's code names."""
+    goal = _goal(ready_scene, panda_joint1=1.0)
+    blocked = ready_scene.diff()
+    add_box(blocked, "at_goal", goal.current_state.get_global_link_transform("panda_hand")[:3, 3])
+    result, traj = _pilz("PTP").plan(blocked, goal, ARM, 1.0)
+    assert result.message.startswith("GOAL_IN_COLLISION: ") and "at_goal" in result.message and traj is None
+    add_box(blocked, "at_start", ready_scene.current_state.get_global_link_transform("panda_hand")[:3, 3])
+    result, _ = _pilz("PTP").plan(blocked, goal, ARM, 1.0)
+    assert result.message.startswith("START_STATE_IN_COLLISION: ") and "at_start" in result.message
+    far = _goal(ready_scene, panda_joint1=3.5)
+    result, _ = _pilz("PTP").plan(ready_scene, far, ARM, 1.0)
+    assert result.message == "GOAL_STATE_INVALID: goal outside the bounds of panda_joint1"
+
+
+def test_ptp_path_constraints(ready_scene):
+    """PTP fails where a waypoint leaves the path constraints."""
+    goal = _goal(ready_scene, panda_joint1=1.0)
+    constraints = msgs.Constraints(
+        joint_constraints=[msgs.JointConstraint(joint_name="panda_joint1", position=0.0, tolerance_above=1.2,
+                                                tolerance_below=0.1, weight=1.0)]
+    )
+    assert _pilz("PTP").plan(ready_scene, goal, ARM, 1.0, constraints)[0]
+    constraints.joint_constraints[0].tolerance_above = 0.5
+    result, _ = _pilz("PTP").plan(ready_scene, goal, ARM, 1.0, constraints)
+    assert result.message == "GOAL_VIOLATES_PATH_CONSTRAINTS"
+
+
+# ----------------------------------------------------------------------------------------- LIN
+
+
+def test_lin_straight_line_with_trapezoidal_speed(panda, ready_scene):
+    """LIN: the tip on the straight line, orientation by slerp, speed profile up to the scaled limit."""
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1 = T0.copy()
+    T1[:3, 3] += [0.0, 0.3, -0.1]
+    T1[:3, :3] = T1[:3, :3] @ pin.exp3(np.array([0.0, 0.0, 0.3]))
+    result, traj = _pilz("LIN", 0.2, 1.0).plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
+    assert result
+    P = _tip_positions(traj)
+    u = (T1[:3, 3] - T0[:3, 3]) / np.linalg.norm(T1[:3, 3] - T0[:3, 3])
+    d = P - T0[:3, 3]
+    along = d @ u
+    assert np.linalg.norm(d - np.outer(along, u), axis=1).max() < 1e-5
+    assert np.all(np.diff(along) >= -1e-12)
+    assert np.allclose(traj[-1].get_global_link_transform("panda_link8"), T1, atol=1e-5)
+    speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(traj.times)
+    assert speed.max() <= CartesianLimits().max_trans_vel * 0.2 * 1.01
+    vmax, amax = _limits(panda, 0.2, 1.0)
+    assert np.all(np.abs(traj.velocities) <= vmax + 1e-6)
+    # it cruises at a limit: the Cartesian speed or, if the joints cannot follow, a joint's speed
+    joint_ratio = np.max(np.abs(traj.velocities) / vmax)
+    assert max(speed.max() / (CartesianLimits().max_trans_vel * 0.2), joint_ratio) >= 0.95
+    cruise = speed[len(speed) // 3 : 2 * len(speed) // 3]
+    assert np.ptp(cruise) < 0.01 * cruise.max()  # a constant speed in the middle: a trapezoid
+    assert np.allclose(traj.velocities[0], 0) and np.allclose(traj.velocities[-1], 0)
+
+
+def test_lin_joint_goal_goes_to_the_tips_pose(ready_scene):
+    """LIN with a joint goal moves the group's tip straight to its pose in the goal state."""
+    goal = _goal(ready_scene, panda_joint1=0.3)
+    result, traj = _pilz("LIN").plan(ready_scene, goal, ARM, 1.0)
+    assert result
+    T1 = goal.current_state.get_global_link_transform("panda_link8")
+    assert np.allclose(traj[-1].get_global_link_transform("panda_link8"), T1, atol=1e-5)
+
+
+def test_lin_slows_down_for_the_joint_limits(panda, ready_scene):
+    """Where the line needs faster joints than allowed, the whole motion is slowed uniformly."""
+    T1 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1[:3, :3] = T1[:3, :3] @ pin.exp3(np.array([0.0, 0.0, 1.5]))  # a fast turn of the wrist
+    result, traj = _pilz("LIN", 1.0, 1.0).plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
+    assert result
+    vmax, amax = _limits(panda)
+    ratio = max(np.max(np.abs(traj.velocities) / vmax), np.max(np.abs(traj.accelerations) / amax))
+    assert ratio <= 1.0 + 1e-6
+
+
+def test_lin_ik_failure(ready_scene):
+    """A line out of reach fails with NO_IK_SOLUTION and where it happened."""
+    T1 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1[:3, 3] += [1.0, 0.0, 0.0]
+    result, traj = _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
+    assert not result and result.message.startswith("NO_IK_SOLUTION: LIN: ")
+    assert "% of the path of 'panda_link8'" in result.message
+    assert traj is not None and len(traj) > 1
+
+
+def test_lin_collision(ready_scene, add_box):
+    """An obstacle on the line fails with INVALID_MOTION_PLAN."""
+    T1 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1[:3, 3] += [0.0, 0.0, -0.3]
+    hand = ready_scene.current_state.get_global_link_transform("panda_hand_tcp")
+    add_box(ready_scene, "table", hand[:3, 3] + [0, 0, -0.15], (0.3, 0.3, 0.02))
+    result, traj = _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
+    assert result.message.startswith("INVALID_MOTION_PLAN: waypoint ") and "table" in result.message
+    assert not any(ready_scene.is_state_colliding(w, ARM) for w in traj)
+
+
+# ----------------------------------------------------------------------------------------- CIRC
+
+
+def _circle_fit(P):
+    """Center and radius of the circle through the first, middle and last points."""
+    a, b, c = P[0], P[len(P) // 2], P[-1]
+    u, v = b - a, c - a
+    w = np.cross(u, v)
+    center = a + (u @ u * np.cross(v, w) + v @ v * np.cross(w, u)) / (2 * w @ w)
+    return center, np.linalg.norm(a - center)
+
+
+def test_circ_through_interim_point(ready_scene):
+    """CIRC with an interim point: an arc of the circle through start, interim and goal."""
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1 = T0.copy()
+    T1[:3, 3] += [0.0, 0.2, 0.0]
+    interim = T0[:3, 3] + [0.0, 0.1, 0.1]
+    result, traj = _pilz("CIRC", 0.5, 0.5).plan_to_pose(
+        ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("interim", interim)
+    )
+    assert result
+    P = _tip_positions(traj)
+    # the circle through start, interim, goal has its centre at the midpoint of start and goal
+    center = T0[:3, 3] + [0.0, 0.1, 0.0]
+    assert np.allclose(np.linalg.norm(P - center, axis=1), 0.1, atol=1e-5)
+    assert np.linalg.norm(P - interim, axis=1).min() < 0.005  # it passes the interim point
+    assert np.allclose(P[-1], T1[:3, 3], atol=1e-5)
+    assert np.all(P[:, 2] >= T0[2, 3] - 1e-6)  # the upper half circle, where the interim point is
+
+
+def test_circ_around_center(ready_scene):
+    """CIRC around a center: the shorter arc at constant radius."""
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    center = T0[:3, 3] + [0.0, 0.1, 0.0]
+    T1 = T0.copy()
+    T1[:3, 3] = center + [0.0, 0.0, 0.1]  # a quarter circle
+    result, traj = _pilz("CIRC").plan_to_pose(
+        ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("center", center)
+    )
+    assert result
+    P = _tip_positions(traj)
+    assert np.allclose(np.linalg.norm(P - center, axis=1), 0.1, atol=1e-5)
+    # a quarter arc of radius 0.1: the path is about 0.157 m long
+    assert np.linalg.norm(np.diff(P, axis=0), axis=1).sum() == pytest.approx(np.pi / 2 * 0.1, rel=1e-2)
+
+
+def test_circ_input_errors(ready_scene):
+    """Missing aux point, radius mismatch and colinear points fail with a message."""
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1 = T0.copy()
+    T1[:3, 3] += [0.0, 0.2, 0.0]
+    planner = _pilz("CIRC")
+    result, _ = planner.plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
+    assert result.message.startswith("INVALID_GOAL_CONSTRAINTS: CIRC needs path_constraints named 'interim' or 'center'")
+    off_center = T0[:3, 3] + [0.0, 0.05, 0.0]
+    result, _ = planner.plan_to_pose(
+        ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("center", off_center)
+    )
+    assert result.message.startswith("PLANNING_FAILED: CIRC: start and goal are at different distances from the center")
+    colinear = T0[:3, 3] + [0.0, 0.1, 0.0]
+    result, _ = planner.plan_to_pose(
+        ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("interim", colinear)
+    )
+    assert result.message == "PLANNING_FAILED: CIRC: start, interim and goal points are colinear, the circle is undefined"
+    result, _ = planner.plan_to_pose(
+        ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("center", colinear)
+    )
+    assert result.message == "PLANNING_FAILED: CIRC: start, goal and center are colinear, the circle's plane is undefined"
+
+
+def test_circ_point_in_a_link_frame(ready_scene):
+    """The aux point is read in its constraint's header frame."""
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1 = T0.copy()
+    T1[:3, 3] += [0.0, 0.2, 0.0]
+    interim_world = T0[:3, 3] + [0.0, 0.1, 0.1]
+    base = ready_scene.current_state.get_global_link_transform("panda_link0")
+    local = np.linalg.inv(base) @ np.append(interim_world, 1.0)
+    result, traj = _pilz("CIRC").plan_to_pose(
+        ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("interim", local[:3], "panda_link0")
+    )
+    assert result
+    assert np.linalg.norm(_tip_positions(traj) - interim_world, axis=1).min() < 0.005
+
+
+def test_reproducible(ready_scene):
+    """Pilz plans are deterministic."""
+    T1 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1[:3, 3] += [0.05, 0.1, -0.05]
+    a = _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)[1]
+    b = _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)[1]
+    assert np.array_equal(a.positions, b.positions) and np.array_equal(a.times, b.times)
