@@ -1,0 +1,148 @@
+"""Tests of PipelinePlanner (mtc_semantics.md §3.2): properties, pipeline/planner ids, dispatch, timing."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from mtc import msgs
+from mtc.planners import PipelinePlanner, PlannerResult
+from mtc.planners.pipeline_planner import KNOWN_PIPELINES, known_planners
+
+
+def test_defaults_and_typed_properties():
+    """MTC's properties with their defaults, as attributes; setPlannerId."""
+    planner = PipelinePlanner()
+    assert planner.pipeline_id == "ompl"
+    assert planner.planner == ""
+    assert planner.num_planning_attempts == 1
+    assert planner.goal_joint_tolerance == planner.goal_position_tolerance == planner.goal_orientation_tolerance == 1e-4
+    assert planner.display_motion_plans is False and planner.publish_planning_requests is False
+    assert planner.workspace_parameters == msgs.WorkspaceParameters()
+    assert planner.timeout == math.inf and planner.max_velocity_scaling_factor == 1.0
+    planner.planner = "RRTConnectkConfigDefault"
+    assert planner.properties.get("planner") == "RRTConnectkConfigDefault"
+    planner.setPlannerId("PRMkConfigDefault")
+    assert planner.planner == "PRMkConfigDefault"
+    planner.num_planning_attempts = 3
+    with pytest.raises(TypeError):
+        planner.num_planning_attempts = -1  # unsigned
+    with pytest.raises(TypeError):
+        planner.planner = 5
+    assert repr(planner) == "PipelinePlanner('ompl', planner='PRMkConfigDefault')"
+
+
+def test_unknown_pipeline_fails_at_init(panda):
+    """An unknown pipeline is accepted by the constructor and rejected by init(), listing the known ones."""
+    planner = PipelinePlanner("chomp")
+    with pytest.raises(ValueError, match=r"unknown planning pipeline 'chomp' \(known: ompl, pilz_industrial_motion_planner\)"):
+        planner.init(panda)
+    assert KNOWN_PIPELINES == ("ompl", "pilz_industrial_motion_planner")
+    with pytest.raises(TypeError, match="pipeline must be a name"):
+        PipelinePlanner(42)
+
+
+def test_unknown_planner_id_fails_at_init(panda):
+    """An unknown planner id is rejected by init() with the pipeline's known ids."""
+    pilz = PipelinePlanner("pilz_industrial_motion_planner")
+    pilz.planner = "SPLINE"
+    with pytest.raises(
+        ValueError, match=r"unknown planner 'SPLINE' for pipeline 'pilz_industrial_motion_planner' \(known: PTP, LIN, CIRC\)"
+    ):
+        pilz.init(panda)
+    ompl = PipelinePlanner("ompl")
+    ompl.planner = "RRTFast"
+    with pytest.raises(ValueError, match=r"unknown OMPL planner id 'RRTFast' \(known: .*RRTConnectkConfigDefault"):
+        ompl.init(panda)
+    assert "RRTConnectkConfigDefault" in known_planners("ompl")
+    assert known_planners("pilz_industrial_motion_planner") == ("PTP", "LIN", "CIRC")
+
+
+def test_unknown_planner_set_after_init_is_a_failure(panda, ready_scene):
+    """A planner id changed to an unknown one after init() fails the request with the same message."""
+    planner = PipelinePlanner("pilz_industrial_motion_planner")
+    planner.init(panda)
+    planner.planner = "SPLINE"
+    result, traj = planner.plan(ready_scene, ready_scene.diff(), "panda_arm", 1.0)
+    assert not result and result.message.startswith("unknown planner 'SPLINE'") and traj is None
+
+
+def test_init_needs_a_robot_model():
+    """init() of anything but a RobotModel raises TypeError."""
+    with pytest.raises(TypeError, match="init\\(\\) needs a RobotModel"):
+        PipelinePlanner().init("panda")
+
+
+def test_pilz_default_planner_is_ptp(panda, ready_scene):
+    """Without a planner id, the Pilz pipeline runs PTP (a straight joint-space line)."""
+    planner = PipelinePlanner("pilz_industrial_motion_planner")
+    planner.init(panda)
+    goal = ready_scene.diff()
+    goal.current_state.set_variable_positions({"panda_joint1": 0.5, "panda_joint3": -0.5})
+    result, traj = planner.plan(ready_scene, goal, "panda_arm", 1.0)
+    assert result
+    Q = traj.positions
+    assert np.allclose(Q[:, 0], -Q[:, 2])  # both joints move together: the straight line
+
+
+def test_ompl_joint_goal_is_timed_with_the_scaling(panda, ready_scene):
+    """OMPL's geometric path reaches the goal and is timed with the planner's scaling factors."""
+    goal = ready_scene.diff()
+    goal.current_state.set_to_default_values("panda_arm", "extended")
+    planner = PipelinePlanner()
+    planner.planner = "RRTConnectkConfigDefault"
+    planner.init(panda)
+    result, traj = planner.plan(ready_scene, goal, "panda_arm", 2.0)
+    assert result == PlannerResult(True, result.message)
+    assert np.allclose(traj[-1].get_joint_group_positions("panda_arm"), goal.current_state.get_joint_group_positions("panda_arm"), atol=1e-4)
+    assert ready_scene.is_path_valid(traj, "panda_arm")
+    planner.max_velocity_scaling_factor = 0.25
+    planner.max_acceleration_scaling_factor = 0.25
+    slow = planner.plan(ready_scene, goal, "panda_arm", 2.0)[1]
+    assert slow.duration > 2 * traj.duration
+    idx = panda.get_joint_model_group("panda_arm").variable_indices
+    assert np.all(np.abs(slow.velocities) <= panda.velocity_limits[idx] * 0.25 + 1e-9)
+    assert np.all(np.abs(slow.accelerations) <= panda.acceleration_limits[idx] * 0.25 + 1e-9)
+
+
+def test_ompl_pose_goal(panda, ready_scene):
+    """A pose goal through OMPL ends within the goal tolerances."""
+    target = ready_scene.current_state.get_global_link_transform("panda_hand_tcp")
+    target[:3, 3] += [0.1, 0.2, -0.1]
+    planner = PipelinePlanner()
+    result, traj = planner.plan_to_pose(ready_scene, "panda_hand_tcp", np.eye(4), target, "panda_arm", 2.0)
+    assert result
+    reached = traj[-1].get_global_link_transform("panda_hand_tcp")
+    assert np.linalg.norm(reached[:3, 3] - target[:3, 3]) <= 1e-4 + 1e-9
+    assert traj.duration > 0
+
+
+def test_initializes_on_first_use(ready_scene):
+    """plan() without a prior init() initializes for the scene's robot."""
+    planner = PipelinePlanner("pilz_industrial_motion_planner")
+    goal = ready_scene.diff()
+    goal.current_state.set_variable_positions({"panda_joint1": 0.2})
+    assert planner.plan(ready_scene, goal, "panda_arm", 1.0)[0]
+
+
+def test_ompl_start_in_collision_message(ready_scene, add_box):
+    """Pipeline failures carry MoveIt's error-code name and the details."""
+    add_box(ready_scene, "box", ready_scene.current_state.get_global_link_transform("panda_hand")[:3, 3])
+    goal = ready_scene.diff()
+    goal.current_state.set_variable_positions({"panda_joint1": 0.5})
+    result, _ = PipelinePlanner().plan(ready_scene, goal, "panda_arm", 1.0)
+    assert not result and result.message.startswith("START_STATE_IN_COLLISION")
+    assert "box" in result.message
+
+
+def test_core_reexports_the_planners():
+    """mtc.core offers the planner classes as MTC's Python core module does."""
+    from mtc import core
+
+    pilz = core.PipelinePlanner("pilz_industrial_motion_planner")
+    pilz.planner = "PTP"
+    assert isinstance(pilz, PipelinePlanner)
+    assert core.CartesianPrecision().translational == 0.001
+    assert core.MultiPlanner and core.JointInterpolationPlanner and core.CartesianPath and core.PlannerInterface
