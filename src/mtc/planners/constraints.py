@@ -79,6 +79,11 @@ def rotation_vector(R: np.ndarray) -> np.ndarray:
     return np.asarray(pin.log3(np.ascontiguousarray(R)), dtype=float)
 
 
+def _excess(x: float) -> float:
+    """``x`` when it exceeds the comparison slack, else 0."""
+    return x if x > _EPS else 0.0
+
+
 def _weight(w: float) -> float:
     return 1.0 if w <= _WEIGHT_EPS else float(w)
 
@@ -187,7 +192,7 @@ class _Orientation:
             ex, ey, ez = _euler_xyz_list(diff.tolist())
             ex, ey, ez = abs(ex), abs(ey), abs(ez)
         tx, ty, tz = self._tol
-        return max(ex - tx - _EPS, 0.0) + max(ey - ty - _EPS, 0.0) + max(ez - tz - _EPS, 0.0)
+        return _excess(ex - tx) + _excess(ey - ty) + _excess(ez - tz)
 
 
 def _parse_region(pc: msgs.PositionConstraint, where: str) -> tuple:
@@ -430,7 +435,13 @@ class KinematicConstraintSet:
     def _state_frame(self, state: RobotState, frame: str) -> np.ndarray:
         if frame in ("", self._model.model_frame):
             return np.eye(4)
-        return state.get_frame_transform(frame)
+        try:
+            return state.get_frame_transform(frame)
+        except KeyError as e:
+            raise KeyError(
+                f"constraint frame: {e.args[0] if e.args else e}; world objects need the planning scene "
+                "(pass scene=)"
+            ) from None
 
     def _state_terms(self, state: RobotState) -> list[tuple[str, object, float]]:
         q = state.positions
@@ -441,7 +452,7 @@ class KinematicConstraintSet:
             point = T_link[:3, :3] @ p.offset + T_link[:3, 3]
             local = T_frame[:3, :3].T @ (point - T_frame[:3, 3])
             outside = min(r.outside(local) for r in p.regions)
-            terms.append(("position", p, p.weight * max(outside - _EPS, 0.0)))
+            terms.append(("position", p, p.weight * _excess(outside)))
         for o in self._orientations:
             R_link = self._state_frame(state, o.link)[:3, :3]
             R_frame = self._state_frame(state, o.frame)[:3, :3]
@@ -567,7 +578,7 @@ class ConstraintEvaluator:
                 best = min(best, r.outside_local((r.pose_inv * header.inverse()).act(point)))
                 if best == 0.0:
                     break
-            v = max(best - _EPS, 0.0)
+            v = _excess(best)
             yield ("position", p, p.weight * v)
             if stop and v > 0.0:
                 return

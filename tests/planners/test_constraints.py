@@ -1,0 +1,345 @@
+"""Tests of mtc.planners.constraints: MoveIt's joint, position and orientation constraints."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mtc
+from mtc import msgs
+from mtc.planners.constraints import KinematicConstraintSet, euler_xyz, rotation_vector
+from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_state import RobotState
+
+DATA = Path(__file__).resolve().parents[1] / "data"
+
+
+def _rot(axis: str, angle: float) -> np.ndarray:
+    c, s = math.cos(angle), math.sin(angle)
+    return {
+        "x": np.array([[1, 0, 0], [0, c, -s], [0, s, c]]),
+        "y": np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]]),
+        "z": np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]]),
+    }[axis]
+
+
+@pytest.fixture
+def ready(panda) -> RobotState:
+    state = RobotState(panda)
+    state.set_to_default_values("panda_arm", "ready")
+    return state
+
+
+def _orientation(link, R, tol=(0.1, 0.1, 0.1), frame="world", parameterization=0):
+    return msgs.OrientationConstraint(
+        header=msgs.Header(frame_id=frame),
+        link_name=link,
+        orientation=msgs.matrix_to_quaternion(R),
+        absolute_x_axis_tolerance=tol[0],
+        absolute_y_axis_tolerance=tol[1],
+        absolute_z_axis_tolerance=tol[2],
+        parameterization=parameterization,
+        weight=1.0,
+    )
+
+
+def _position(link, kind, dims, pose: np.ndarray, frame="world", offset=(0.0, 0.0, 0.0)):
+    return msgs.PositionConstraint(
+        header=msgs.Header(frame_id=frame),
+        link_name=link,
+        target_point_offset=msgs.Vector3(x=offset[0], y=offset[1], z=offset[2]),
+        constraint_region=msgs.BoundingVolume(
+            primitives=[msgs.SolidPrimitive(type=kind, dimensions=list(dims))],
+            primitive_poses=[msgs.matrix_to_pose(pose)],
+        ),
+        weight=1.0,
+    )
+
+
+def _with_joint(state: RobotState, name: str, value: float) -> RobotState:
+    out = state.copy()
+    out.set_variable_positions({name: value})
+    return out
+
+
+# --- joint constraints ---------------------------------------------------------------------
+
+
+def test_joint_constraint_tolerances_above_and_below(panda, ready):
+    """q1 in [0.2 - 0.1, 0.2 + 0.3]: the bounds hold, beyond them the distance is the excess."""
+    c = msgs.Constraints(
+        joint_constraints=[
+            msgs.JointConstraint(joint_name="panda_joint1", position=0.2, tolerance_above=0.3, tolerance_below=0.1)
+        ]
+    )
+    cs = KinematicConstraintSet(panda, c)
+    assert not cs.empty and len(cs) == 1
+    for value, ok in [(0.2, True), (0.1, True), (0.5, True), (0.05, False), (0.6, False)]:
+        st = _with_joint(ready, "panda_joint1", value)
+        assert cs.satisfied(st) is ok, value
+    assert cs.distance(_with_joint(ready, "panda_joint1", 0.6)) == pytest.approx(0.1)
+    assert cs.distance(_with_joint(ready, "panda_joint1", 0.0)) == pytest.approx(0.1)
+    assert cs.violations(_with_joint(ready, "panda_joint1", 0.6)) == [
+        "joint constraint on 'panda_joint1' violated by 0.1"
+    ]
+    assert cs.joint_bounds() == {0: (pytest.approx(0.1), pytest.approx(0.5))}
+
+
+def test_joint_constraint_on_a_continuous_joint_wraps():
+    """A continuous joint at 3.1 is 0.08 rad from a target of -3.1 (the short way round)."""
+    toy = mtc.RobotModel(str(DATA / "toy_robot.urdf"), str(DATA / "toy_robot.srdf"))
+    name = toy.variable_names[0]
+    c = msgs.Constraints(
+        joint_constraints=[msgs.JointConstraint(joint_name=name, position=-3.1, tolerance_above=0.1, tolerance_below=0.1)]
+    )
+    cs = KinematicConstraintSet(toy, c)
+    st = RobotState(toy)
+    st.set_variable_positions({name: 3.1})
+    assert cs.satisfied(st)
+    st.set_variable_positions({name: 2.9})
+    assert not cs.satisfied(st)
+    assert cs.distance(st) == pytest.approx(2 * math.pi - 6.0 - 0.1)
+
+
+def test_bad_joint_constraints_are_refused(panda):
+    """An unknown joint lists the joints; a negative tolerance names the field."""
+    with pytest.raises(KeyError, match="unknown joint.*panda_joint1, panda_joint2"):
+        KinematicConstraintSet(panda, msgs.Constraints(joint_constraints=[msgs.JointConstraint(joint_name="elbow")]))
+    with pytest.raises(ValueError, match="tolerance_below must be a finite value >= 0"):
+        KinematicConstraintSet(
+            panda,
+            msgs.Constraints(
+                joint_constraints=[msgs.JointConstraint(joint_name="panda_joint1", tolerance_below=-0.1)]
+            ),
+        )
+    with pytest.raises(ValueError, match="visibility constraints are not supported"):
+        KinematicConstraintSet(panda, msgs.Constraints(visibility_constraints=[msgs.VisibilityConstraint()]))
+    with pytest.raises(TypeError, match="msgs.Constraints"):
+        KinematicConstraintSet(panda, {"joint_constraints": []})
+
+
+def test_empty_set_is_always_satisfied(panda, ready):
+    for cs in (KinematicConstraintSet(panda), KinematicConstraintSet(panda, msgs.Constraints(name="none"))):
+        assert cs.empty and cs.satisfied(ready) and cs.distance(ready) == 0.0 and cs.violations(ready) == []
+
+
+# --- orientation constraints ---------------------------------------------------------------
+
+
+def test_euler_xyz_and_rotation_vector_round_trip():
+    R = _rot("x", 0.3) @ _rot("y", -0.4) @ _rot("z", 1.2)
+    np.testing.assert_allclose(euler_xyz(R), [0.3, -0.4, 1.2], atol=1e-12)
+    np.testing.assert_allclose(rotation_vector(_rot("y", 0.7)), [0, 0.7, 0], atol=1e-12)
+
+
+def test_orientation_constraint_per_axis_tolerances(panda, ready):
+    """Tilts of the hand about its target's x axis within 0.1 rad hold, beyond do not; the z
+    tolerance of 3.14 lets it turn freely about z (the 'keep upright' constraint)."""
+    R0 = ready.get_global_link_transform("panda_hand")[:3, :3]
+    cs = KinematicConstraintSet(
+        panda, msgs.Constraints(orientation_constraints=[_orientation("panda_hand", R0, (0.1, 0.1, 3.14))])
+    )
+    assert cs.satisfied(ready)
+    # rotate the target instead of the robot: a constraint whose target is tilted by a
+    # rotation about the target's own x axis is violated by exactly that angle
+    for axis, angle, ok in [("x", 0.05, True), ("x", 0.15, False), ("y", -0.09, True), ("y", 0.2, False), ("z", 3.0, True)]:
+        tilted = KinematicConstraintSet(
+            panda,
+            msgs.Constraints(orientation_constraints=[_orientation("panda_hand", R0 @ _rot(axis, angle), (0.1, 0.1, 3.14))]),
+        )
+        assert tilted.satisfied(ready) is ok, (axis, angle)
+    off = KinematicConstraintSet(
+        panda, msgs.Constraints(orientation_constraints=[_orientation("panda_hand", R0 @ _rot("x", 0.15))])
+    )
+    assert off.distance(ready) == pytest.approx(0.05)
+
+
+def test_orientation_half_turn_is_not_within_a_small_tolerance(panda, ready):
+    """A half turn about x is pi away (MoveIt's folded Euler angles would call it 0)."""
+    R0 = ready.get_global_link_transform("panda_hand")[:3, :3]
+    cs = KinematicConstraintSet(
+        panda, msgs.Constraints(orientation_constraints=[_orientation("panda_hand", R0 @ _rot("x", math.pi))])
+    )
+    assert not cs.satisfied(ready)
+    assert cs.distance(ready) > 2.0
+
+
+def test_rotation_vector_parameterization(panda, ready):
+    """A tilt of 0.12 about the diagonal (x+y)/sqrt2 has components 0.085 each: inside 0.1 with
+    a rotation vector, while its XYZ Euler angles differ."""
+    R0 = ready.get_global_link_transform("panda_hand")[:3, :3]
+    axis = np.array([1.0, 1.0, 0.0]) / math.sqrt(2)
+    import pinocchio as pin
+
+    R = R0 @ pin.exp3(axis * 0.12)
+    rv = msgs.OrientationConstraint.ROTATION_VECTOR
+    ok = KinematicConstraintSet(panda, msgs.Constraints(orientation_constraints=[_orientation("panda_hand", R, (0.1, 0.1, 0.1), parameterization=rv)]))
+    assert ok.satisfied(ready)
+    tight = KinematicConstraintSet(panda, msgs.Constraints(orientation_constraints=[_orientation("panda_hand", R, (0.08, 0.1, 0.1), parameterization=rv)]))
+    assert not tight.satisfied(ready)
+    assert tight.distance(ready) == pytest.approx(0.12 / math.sqrt(2) - 0.08, abs=1e-6)
+    with pytest.raises(ValueError, match="unknown parameterization 7"):
+        KinematicConstraintSet(panda, msgs.Constraints(orientation_constraints=[_orientation("panda_hand", R, parameterization=7)]))
+
+
+def test_orientation_target_in_a_link_frame_moves_with_the_robot(panda, ready):
+    """A target given in panda_link7's frame moves with the arm: met at any joint-1 angle."""
+    T7 = ready.get_global_link_transform("panda_link7")
+    Th = ready.get_global_link_transform("panda_hand")
+    rel = np.linalg.solve(T7, Th)[:3, :3]
+    cs = KinematicConstraintSet(
+        panda, msgs.Constraints(orientation_constraints=[_orientation("panda_hand", rel, (0.01, 0.01, 0.01), frame="panda_link7")])
+    )
+    for q1 in (-1.0, 0.0, 2.0):
+        assert cs.satisfied(_with_joint(ready, "panda_joint1", q1))
+
+
+# --- position constraints ------------------------------------------------------------------
+
+
+@pytest.mark.parametrize(
+    "kind, dims",
+    [
+        (msgs.SolidPrimitive.BOX, (0.2, 0.2, 0.2)),
+        (msgs.SolidPrimitive.SPHERE, (0.1,)),
+        (msgs.SolidPrimitive.CYLINDER, (0.2, 0.1)),
+    ],
+)
+def test_position_constraint_regions(panda, ready, kind, dims):
+    """The hand's origin inside a region centred on it; moved 0.15 m it is outside, by 0.05 m."""
+    T = ready.get_global_link_transform("panda_hand")
+    centre = np.eye(4)
+    centre[:3, 3] = T[:3, 3]
+    cs = KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[_position("panda_hand", kind, dims, centre)]))
+    assert cs.satisfied(ready)
+    shifted = centre.copy()
+    shifted[0, 3] += 0.15
+    cs2 = KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[_position("panda_hand", kind, dims, shifted)]))
+    assert not cs2.satisfied(ready)
+    assert cs2.distance(ready) == pytest.approx(0.05, abs=1e-9)
+
+
+def test_position_constraint_target_point_offset_is_in_the_link_frame(panda, ready):
+    """The point 0.1034 m along the hand's z (the TCP) is what has to lie in the region."""
+    T = ready.get_global_link_transform("panda_hand")
+    tcp = T[:3, 3] + T[:3, 2] * 0.1034
+    region = np.eye(4)
+    region[:3, 3] = tcp
+    c = _position("panda_hand", msgs.SolidPrimitive.SPHERE, (0.01,), region, offset=(0.0, 0.0, 0.1034))
+    assert KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[c])).satisfied(ready)
+    c0 = _position("panda_hand", msgs.SolidPrimitive.SPHERE, (0.01,), region)
+    assert not KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[c0])).satisfied(ready)
+
+
+def test_region_in_a_world_object_frame_needs_the_scene(panda, ready):
+    """A box region given in an object's frame is resolved through the planning scene."""
+    scene = PlanningScene(panda)
+    scene.current_state = ready
+    T = ready.get_global_link_transform("panda_hand")
+    scene.apply_collision_object(
+        msgs.CollisionObject(
+            id="marker",
+            header=msgs.Header(frame_id="world"),
+            pose=msgs.matrix_to_pose(T),
+            primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.SPHERE, dimensions=[0.01])],
+            primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+        )
+    )
+    c = _position("panda_hand", msgs.SolidPrimitive.BOX, (0.05, 0.05, 0.05), np.eye(4), frame="marker")
+    cs = KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[c]))
+    assert cs.satisfied(ready, scene)
+    assert not cs.satisfied(_with_joint(ready, "panda_joint1", 0.3), scene)
+    with pytest.raises(KeyError, match="unknown frame 'marker'.*need the planning scene"):
+        cs.satisfied(ready)
+    with pytest.raises(ValueError, match="mesh regions are not supported"):
+        bad = _position("panda_hand", msgs.SolidPrimitive.BOX, (0.1, 0.1, 0.1), np.eye(4))
+        bad.constraint_region.meshes.append(msgs.Mesh())
+        KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[bad]))
+    with pytest.raises(ValueError, match="needs|must be a BOX"):
+        bad = _position("panda_hand", msgs.SolidPrimitive.BOX, (0.1, 0.1), np.eye(4))
+        KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[bad]))
+
+
+def test_constraint_on_an_attached_object(panda, ready):
+    """'keep upright' on an attached object: its orientation is the hand's times its offset."""
+    scene = PlanningScene(panda)
+    scene.current_state = ready
+    T = ready.get_global_link_transform("panda_hand")
+    obj_pose = T.copy()
+    obj_pose[:3, :3] = np.eye(3)  # the object upright in the world
+    obj_pose[:3, 3] += T[:3, 2] * 0.1
+    scene.apply_collision_object(
+        msgs.CollisionObject(
+            id="bottle",
+            header=msgs.Header(frame_id="world"),
+            pose=msgs.matrix_to_pose(obj_pose),
+            primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.CYLINDER, dimensions=[0.1, 0.02])],
+            primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+        )
+    )
+    scene.attach_object("bottle", "panda_hand", ["panda_leftfinger", "panda_rightfinger"])
+    upright = msgs.Constraints(orientation_constraints=[_orientation("bottle", np.eye(3), (0.1, 0.1, 3.14))])
+    cs = KinematicConstraintSet(panda, upright)
+    assert cs.satisfied(ready, scene)
+    assert cs.satisfied(_with_joint(ready, "panda_joint7", 2.0), scene)  # turning about z is free
+    assert not cs.satisfied(_with_joint(ready, "panda_joint6", 1.2), scene)  # tilting is not
+    # a scene state knows its attached frames without the scene argument
+    st = scene.current_state.copy()
+    assert cs.satisfied(st)
+
+
+# --- fast evaluator and projection ---------------------------------------------------------
+
+
+def test_evaluator_agrees_with_the_state_path(panda, ready):
+    """bind(scene) evaluates on raw vectors exactly what satisfied()/distance() say."""
+    T = ready.get_global_link_transform("panda_hand")
+    region = np.eye(4)
+    region[:3, 3] = T[:3, 3]
+    c = msgs.Constraints(
+        orientation_constraints=[_orientation("panda_hand", T[:3, :3], (0.1, 0.1, 3.14))],
+        position_constraints=[_position("panda_hand", msgs.SolidPrimitive.BOX, (0.2, 0.2, 0.2), region)],
+        joint_constraints=[msgs.JointConstraint(joint_name="panda_joint1", position=0.0, tolerance_above=0.3, tolerance_below=0.3)],
+    )
+    cs = KinematicConstraintSet(panda, c)
+    ev = cs.bind(PlanningScene(panda))
+    rng = np.random.default_rng(0)
+    verdicts = set()
+    for _ in range(200):
+        q = ready.positions.copy()
+        q[:7] += rng.normal(0.0, 0.08, 7)
+        st = RobotState(panda, q)
+        assert ev.violation(q) == pytest.approx(cs.distance(st), abs=1e-9)
+        assert ev(q) == cs.satisfied(st)
+        verdicts.add(ev(q))
+    assert verdicts == {True, False}
+
+
+def test_projection_reaches_the_constraints(panda, ready):
+    """Random arm states are pulled into 'upright inside a slab' by project()."""
+    T = ready.get_global_link_transform("panda_hand")
+    region = np.eye(4)
+    region[:3, 3] = T[:3, 3]
+    c = msgs.Constraints(
+        orientation_constraints=[_orientation("panda_hand", T[:3, :3], (0.1, 0.1, 3.14))],
+        position_constraints=[_position("panda_hand", msgs.SolidPrimitive.BOX, (1.0, 1.0, 0.1), region)],
+    )
+    ev = KinematicConstraintSet(panda, c).bind(PlanningScene(panda))
+    jmg = panda.get_joint_model_group("panda_arm")
+    idx, lo, hi = jmg.variable_indices, jmg.lower_bounds, jmg.upper_bounds
+    rng = np.random.default_rng(1)
+    projected = 0
+    for _ in range(20):
+        q = ready.positions.copy()
+        q[idx] += rng.normal(0.0, 0.4, len(idx))
+        q[idx] = np.clip(q[idx], lo, hi)
+        out = ev.project(q, idx, lo, hi)
+        if out is not None:
+            projected += 1
+            assert ev(out)
+            assert np.all(out[idx] >= lo) and np.all(out[idx] <= hi)
+            np.testing.assert_array_equal(np.delete(out, idx), np.delete(q, idx))
+    assert projected >= 18
