@@ -1,0 +1,228 @@
+"""Executing solutions on the current scene (``mtc.core.execution``, issue 6).
+
+A small Panda task (current state -> attach a box -> MoveTo 'extended' with joint
+interpolation) is planned once; every test starts from a fresh current scene with the
+arm at 'ready', where that task's solution starts.
+"""
+
+from __future__ import annotations
+
+import sys
+import threading
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import mtc
+from mtc import core, msgs, stages
+from mtc.core.execution import CONTROL_FAILED, execute, flatten, publish
+from mtc.core.task import MoveItErrorCode
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import mockups  # noqa: E402
+
+
+def _box_msg() -> msgs.CollisionObject:
+    return msgs.CollisionObject(
+        id="box",
+        header=msgs.Header(frame_id="world"),
+        primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.02, 0.02, 0.02])],
+        primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+        pose=msgs.Pose(position=msgs.Point(x=0.6, z=0.8), orientation=msgs.Quaternion(w=1.0)),
+    )
+
+
+def _initial_scene():
+    mtc.reset_current_scene()
+    mtc.PlanningSceneInterface().add_object(_box_msg())
+
+
+@pytest.fixture(scope="module")
+def panda_task():
+    """The planned Panda task (planned once for the module)."""
+    _initial_scene()
+    task = core.Task()
+    task.setRobotModel(mtc.robots.panda())
+    task.add(stages.CurrentState("current"))
+    attach = stages.ModifyPlanningScene("attach box")
+    attach.attachObject("box", "panda_hand")
+    task.add(attach)
+    move = stages.MoveTo("extend", core.JointInterpolationPlanner())
+    move.group = "panda_arm"
+    move.setGoal("extended")
+    task.add(move)
+    assert task.plan()
+    yield task
+    mtc.reset_current_scene()
+
+
+@pytest.fixture(autouse=True)
+def fresh_scene():
+    _initial_scene()
+    yield
+    mtc.reset_current_scene()
+
+
+def _extended(model) -> np.ndarray:
+    state = mtc.RobotState(model)
+    state.set_to_default_values("panda_arm", "extended")
+    return state.get_joint_group_positions("panda_arm")
+
+
+def test_execute_moves_robot_and_keeps_object_attached(panda_task):
+    solution = panda_task.solutions[0]
+    calls = []
+    code = execute(solution, callback=lambda sub, i, n: calls.append((sub.creator.name, i, n)))
+    assert code == MoveItErrorCode.SUCCESS and bool(code)
+    assert calls == [("current", 0, 3), ("attach box", 1, 3), ("extend", 2, 3)]
+    scene = mtc.current_scene()
+    model = scene.robot_model
+    np.testing.assert_allclose(scene.current_state.get_joint_group_positions("panda_arm"), _extended(model), atol=1e-9)
+    assert scene.attached_object_names == ["box"]
+    assert "box" not in scene.world_object_names
+
+
+def test_callback_sees_scene_before_its_segment(panda_task):
+    # the callback runs the segment: the current scene advances only after it returns
+    seen = []
+
+    def cb(sub, i, n):
+        seen.append(list(mtc.current_scene().attached_object_names))
+
+    assert execute(panda_task.solutions[0], callback=cb)
+    assert seen == [[], [], ["box"]]
+
+
+def test_current_scene_is_a_copy_of_the_end_scene(panda_task):
+    solution = panda_task.solutions[0]
+    assert execute(solution)
+    current = mtc.current_scene()
+    end = flatten(solution)[-1].end.scene
+    assert current is not end
+    # editing the current scene afterwards leaves the task's stored scenes alone
+    mtc.PlanningSceneInterface().remove_attached_object(name="box")
+    current.current_state.set_to_default_values("panda_arm", "ready")
+    assert end.attached_object_names == ["box"]
+    np.testing.assert_allclose(end.current_state.get_joint_group_positions("panda_arm"), _extended(end.robot_model))
+
+
+def test_preempt_between_segments_keeps_finished_ones(panda_task):
+    flag = threading.Event()
+
+    def cb(sub, i, n):
+        if i == 1:
+            flag.set()  # after the attach segment, the move must not run
+
+    code = execute(panda_task.solutions[0], callback=cb, preempt=flag)
+    assert code == MoveItErrorCode.PREEMPTED and not code
+    scene = mtc.current_scene()
+    assert scene.attached_object_names == ["box"]  # the attach segment finished
+    ready = mtc.RobotState(scene.robot_model)
+    ready.set_to_default_values("panda_arm", "ready")
+    np.testing.assert_allclose(
+        scene.current_state.get_joint_group_positions("panda_arm"), ready.get_joint_group_positions("panda_arm")
+    )
+
+
+def test_preempt_before_start_runs_nothing(panda_task):
+    calls = []
+    code = execute(panda_task.solutions[0], callback=lambda *a: calls.append(a), preempt=lambda: True)
+    assert code == MoveItErrorCode.PREEMPTED
+    assert calls == []
+    assert mtc.current_scene().attached_object_names == []
+
+
+def test_preempt_with_task_flag_object(panda_task):
+    class Flag:
+        requested = False
+
+    flag = Flag()
+
+    def cb(sub, i, n):
+        flag.requested = i == 0
+
+    assert execute(panda_task.solutions[0], callback=cb, preempt=flag) == MoveItErrorCode.PREEMPTED
+    assert mtc.current_scene().attached_object_names == []
+
+
+def test_callback_returning_false_is_a_control_failure(panda_task):
+    code = execute(panda_task.solutions[0], callback=lambda sub, i, n: i != 2)
+    assert code == CONTROL_FAILED and not code
+    scene = mtc.current_scene()
+    assert scene.attached_object_names == ["box"]  # the scene stays at the end of segment 1
+
+
+def test_robot_away_from_start_is_rejected(panda_task):
+    solution = panda_task.solutions[0]
+    assert execute(solution)
+    # now the robot stands at 'extended': the solution starts at 'ready'
+    assert execute(solution) == CONTROL_FAILED
+    np.testing.assert_allclose(
+        mtc.current_scene().current_state.get_joint_group_positions("panda_arm"),
+        _extended(mtc.current_scene().robot_model),
+        atol=1e-9,
+    )
+    # without the check it plays (the robot jumps to the start, as in a simulation)
+    assert execute(solution, start_tolerance=None)
+
+
+def test_bad_arguments(panda_task):
+    solution = panda_task.solutions[0]
+    with pytest.raises(TypeError, match="takes a solution"):
+        execute("not a solution")
+    with pytest.raises(TypeError, match="callback must be callable"):
+        execute(solution, callback=3)
+    with pytest.raises(TypeError, match="preempt must be"):
+        execute(solution, preempt=3)
+    failed = core.SubTrajectory.failure("in collision")
+    with pytest.raises(ValueError, match="failed solution.*in collision"):
+        execute(failed)
+    loose = core.SubTrajectory()
+    with pytest.raises(ValueError, match="segment 0 .*no start/end state"):
+        execute(loose)
+
+
+def test_flatten_orders_nested_solutions():
+    a, b, c, d = (core.SubTrajectory(comment=x) for x in "abcd")
+    inner = core.SolutionSequence([b, c])
+    wrapped = core.WrappedSolution(None, inner)
+    seq = core.SolutionSequence([a, wrapped, core.SolutionSequence([d])])
+    assert [s.comment for s in flatten(seq)] == ["a", "b", "c", "d"]
+    assert flatten(a) == [a]
+    with pytest.raises(TypeError, match="not a solution: int"):
+        flatten(core.SolutionSequence([a, 3]))
+
+
+def test_flatten_deep_nesting_has_no_recursion_limit():
+    leaf = core.SubTrajectory(comment="leaf")
+    s = leaf
+    for _ in range(5000):
+        s = core.WrappedSolution(None, s)
+    assert flatten(s) == [leaf]
+
+
+def test_execute_mockup_task_sets_toy_scene():
+    task = mockups.make_task()
+    task.add(mockups.GeneratorMockup([1.0]))
+    inner = core.SerialContainer("inner")
+    inner.add(mockups.ForwardMockup([2.0]))
+    inner.add(mockups.ForwardMockup([3.0]))
+    task.add(inner)
+    assert task.plan()
+    solution = task.solutions[0]
+    leaves = flatten(solution)
+    assert [leaf.creator.name for leaf in leaves] == ["GEN1", "FWD1", "FWD2"]
+    indices = []
+    assert execute(solution, callback=lambda sub, i, n: indices.append((i, n)))
+    assert indices == [(0, 3), (1, 3), (2, 3)]
+    scene = mtc.current_scene()
+    assert scene.robot_model is mockups.toy_model()
+    assert scene is not leaves[-1].end.scene
+
+
+def test_publish_without_viewer_is_quiet(panda_task, monkeypatch):
+    monkeypatch.setenv("MTC_NO_VIEWER", "1")
+    assert publish(panda_task.solutions[0]) is False
+    with pytest.raises(TypeError, match="takes a solution"):
+        publish(None)
