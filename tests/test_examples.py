@@ -49,6 +49,12 @@ TESTED = [
     "fixed_state",
     "modify_planning_scene",
     "fix_collision_objects",
+    "cartesian",
+    "modular",
+    "alternatives",
+    "fallbacks",
+    "merger",
+    "multi_planner",
 ]
 
 
@@ -103,3 +109,72 @@ def test_fix_collision_objects():
     # the example puts a box into the fingers: the start collides, the fixed end does not
     assert solution.start.scene.is_state_colliding()
     assert not end_scene(solution).is_state_colliding()
+
+
+def test_cartesian():
+    task = run_example("cartesian")
+    assert len(task.solutions) == 1
+    solution = task.solutions[0]
+    assert solution.cost > 0.0
+    # it ends where it started: "moveTo ready" after the relative motions
+    start = solution.start.scene.current_state.get_joint_group_positions("panda_arm")
+    end = end_scene(solution).current_state.get_joint_group_positions("panda_arm")
+    assert end == pytest.approx(start, abs=1e-6)
+    for name in ("x +0.2", "y -0.3", "rz +45°", "joint offset", "moveTo ready"):
+        assert len(task[name].solutions) == 1, name
+
+
+def test_modular_reuses_one_module_five_times():
+    task = run_example("modular")
+    assert len(task.solutions) == 1
+    modules = [stage for stage in task.stages if stage.name == "Cartesian Path"]
+    assert len(modules) == 5
+    for module in modules:
+        assert len(module.solutions) == 1
+        # the children took the group from their container
+        assert module["x +0.2"].properties.get("group") == "panda_arm"
+
+
+def test_alternatives_only_goal_1_succeeds():
+    task = run_example("alternatives")
+    assert len(task.solutions) == 1
+    alternatives = task["Alternatives"]
+    assert len(alternatives["Move To Goal Configuration 1"].solutions) == 1
+    assert len(alternatives["Move To Goal Configuration 2"].solutions) == 0
+    end = end_scene(task.solutions[0]).current_state.joint_positions
+    assert end["panda_joint1"] == pytest.approx(1.0)
+    assert end["panda_joint4"] == pytest.approx(-2.5)
+
+
+def test_fallbacks_first_child_succeeds():
+    task = run_example("fallbacks")
+    assert len(task.solutions) == 1
+    fallbacks = task["Fallbacks"]
+    # the Cartesian line to 'extended' works, so the joint-interpolation fallback is not needed
+    assert len(fallbacks["Move To Goal Configuration 1"].solutions) == 1
+    assert len(fallbacks["Move To Goal Configuration 2"].solutions) == 0
+    extended = mtc.RobotState(mtc.robots.panda())
+    extended.set_to_default_values("panda_arm", "extended")
+    # a Cartesian path reaches the goal's pose of the group's tip link (not its joint values)
+    end = end_scene(task.solutions[0]).current_state
+    assert end.get_global_link_transform("panda_link8") == pytest.approx(
+        extended.get_global_link_transform("panda_link8"), abs=1e-3)
+
+
+def test_merger_moves_arm_and_hand_together():
+    task = run_example("merger")
+    assert len(task.solutions) == 1
+    merged = task["Merger"].solutions[0]
+    names = merged.trajectory.joint_names
+    assert "panda_joint1" in names and "panda_finger_joint1" in names
+    end = end_scene(task.solutions[0]).current_state.joint_positions
+    assert end["panda_finger_joint1"] == pytest.approx(0.0)
+    assert end["panda_joint2"] == pytest.approx(0.0, abs=1e-3)  # 'extended'
+
+
+def test_multi_planner_only_goal_1_succeeds():
+    task = run_example("multi_planner")
+    assert len(task.solutions) == 1
+    alternatives = task["Alternatives"]
+    assert len(alternatives["Move To Goal Configuration 1"].solutions) == 1
+    assert len(alternatives["Move To Goal Configuration 2"].solutions) == 0

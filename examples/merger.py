@@ -1,0 +1,67 @@
+"""Move two groups at the same time: a Merger container.
+
+As MTC's ``demo/scripts/merger.py`` (the howto's "Merger" snippet): a ``Merger`` of two
+``MoveTo`` stages, the hand to ``close`` and the arm to ``extended``, both by joint
+interpolation. The merger joins the two trajectories, which use disjoint joints, into one that
+moves hand and arm together. Expected outcome: 1 merged solution, whose trajectory moves the
+arm and the fingers. Run: ``python examples/merger.py [--view]``
+"""
+
+from __future__ import annotations
+
+import argparse
+import mtc
+from mtc import core, stages
+
+
+def make_task() -> core.Task:
+    """The task: current state, then Merger(hand -> close, arm -> extended)."""
+    planner = core.JointInterpolationPlanner()
+
+    task = core.Task()
+    task.name = "merger"
+    task.add(stages.CurrentState("current state"))
+
+    # the merger plans for two parallel execution paths
+    merger = core.Merger("Merger")
+
+    moveTo1 = stages.MoveTo("Move To Home", planner)
+    moveTo1.group = "hand"
+    moveTo1.setGoal("close")
+    merger.insert(moveTo1)
+
+    moveTo2 = stages.MoveTo("Move To Ready", planner)
+    moveTo2.group = "panda_arm"
+    moveTo2.setGoal("extended")
+    merger.insert(moveTo2)
+
+    task.add(merger)
+    return task
+
+
+def main(argv: list[str] | None = None) -> core.Task:
+    """Plan the task headless and print the result; ``--view`` shows it in a browser."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--view", action="store_true", help="show the solution in a meshcat viewer")
+    args = parser.parse_args(argv)
+
+    viewer = None
+    if args.view:
+        from mtc.viewer import Viewer
+
+        viewer = Viewer(mtc.robots.panda())
+        print("viewer at", viewer.url)
+
+    task = make_task()
+    result = task.plan()
+    task.printState()
+    print(f"plan: {result}, {len(task.solutions)} solution(s), costs:",
+          [round(s.cost, 4) for s in task.solutions])
+    if viewer is not None and task.solutions:
+        task.publish(task.solutions[0])
+        viewer.hold()
+    return task
+
+
+if __name__ == "__main__":
+    main()
