@@ -18,6 +18,8 @@ from __future__ import annotations
 import logging
 import sys
 from bisect import insort_right
+
+import numpy as np
 from collections.abc import Callable
 
 from mtc.core.properties import PropertyError
@@ -60,6 +62,7 @@ __all__ = [
     "Alternatives",
     "ContainerBase",
     "Fallbacks",
+    "MergeError",
     "Merger",
     "ParallelContainerBase",
     "SerialContainer",
@@ -903,8 +906,6 @@ class Merger(ParallelContainerBase):
                 break
 
     def _merge(self, subs: list[SubTrajectory], source: InterfaceState, forward: bool) -> None:
-        from mtc.core.merge import MergeError, merge_trajectories
-
         start_scene = source.scene
         try:
             merged = merge_trajectories([s.trajectory for s in subs], start_scene.current_state,
@@ -940,19 +941,71 @@ class Merger(ParallelContainerBase):
             self._sendBackward(InterfaceState(scene), source, t)
 
 
+class MergeError(RuntimeError):
+    """Trajectories that cannot be merged (overlapping joints, different robots, ...)."""
+
+
+def merge_trajectories(trajectories: list, start_state, time_parameterization=None):
+    """Merge trajectories of disjoint joint groups into one (MTC's ``task_constructor::merge``).
+
+    Waypoint ``i`` of the result sets each group's joints from that trajectory's waypoint
+    ``i`` (a shorter trajectory keeps its last values), starting from ``start_state``; the
+    result is then timed with ``time_parameterization`` (default: time-optimal timing of
+    ``mtc.planners.time_parameterization``, if available) at full velocity and
+    acceleration scaling.
+
+    Raises:
+        MergeError: Fewer than two trajectories or groups, different robot models, or
+            joints moved by more than one trajectory.
+    """
+    from mtc.scene.robot_state import RobotState
+    from mtc.scene.robot_trajectory import RobotTrajectory
+
+    if len(trajectories) <= 1:
+        raise MergeError("Expected multiple sub solutions")
+    model = trajectories[0].robot_model
+    if any(t.robot_model is not model for t in trajectories):
+        raise MergeError("groups refer to different robot models")
+    groups = []
+    for t in trajectories:
+        if t.group not in groups:
+            groups.append(t.group)
+    if len(groups) <= 1:
+        raise MergeError("Expected multiple groups")
+    owner: dict[str, object] = {}
+    overlap = []
+    for g in groups:
+        for v in g.variable_names:
+            if v in owner and v not in overlap:
+                overlap.append(v)
+            owner[v] = g
+    if overlap:
+        raise MergeError("overlapping joints: " + ", ".join(overlap))
+    # the merged group: the whole robot (a union group "g1+g2" does not exist in the model)
+    merged = RobotTrajectory(model, "")
+    q = np.array(start_state.positions, dtype=float)
+    for i in range(max(len(t) for t in trajectories)):
+        for t in trajectories:
+            if i < len(t):
+                idx = t.group.variable_indices
+                q[idx] = np.asarray(t[i].positions)[idx]
+        merged.add_suffix_waypoint(RobotState(model, q.copy()), 0.0)
+    if time_parameterization is None:
+        try:
+            from mtc.planners.time_parameterization import TimeOptimalTrajectoryGeneration
+        except ImportError:  # planners not available: keep the waypoints untimed
+            return merged
+        time_parameterization = TimeOptimalTrajectoryGeneration()
+    try:
+        time_parameterization.computeTimeStamps(merged, 1.0, 1.0)
+    except (ValueError, RuntimeError) as e:
+        raise MergeError(f"time parameterization failed: {e}") from e
+    return merged
+
+
 def _invalid_waypoints(scene, trajectory) -> list[int]:
     """Indices of waypoints in collision (MTC's ``isPathValid`` with invalid indices)."""
-    group = getattr(trajectory, "joint_model_group_name", None)
-    invalid = []
-    for i in range(len(trajectory)):
-        try:
-            colliding = scene.is_state_colliding(trajectory[i])
-        except (KeyError, ValueError):
-            colliding = scene.is_state_colliding(trajectory[i], group=None)
-        if colliding:
-            invalid.append(i)
-    del group
-    return invalid
+    return [i for i in range(len(trajectory)) if scene.is_state_colliding(trajectory[i])]
 
 
 class WrapperBase(ParallelContainerBase):

@@ -1033,6 +1033,11 @@ class _LazySeq:
     __hash__ = object.__hash__
 
 
+def _fast_key(a: Priority, b: Priority) -> tuple:
+    """Pair key in fast mode, where every state is ENABLED: (-depth sum, cost sum)."""
+    return (a[1] + b[1], a[2] + b[2])
+
+
 def _seq_value(seq):
     return seq.value() if isinstance(seq, _LazySeq) else seq
 
@@ -1148,7 +1153,7 @@ class _PendingPairs:
         # walk back from the current priorities to the last event that changed the key
         ps = pair.start._priority
         pe = pair.end._priority
-        after = _key_of(ps, pe)
+        after = (ps[1] + pe[1], ps[2] + pe[2])
         i, j = ns, ne
         while i > i0 or j > j0:
             if j <= j0 or (i > i0 and es[i - 1][0] > ee[j - 1][0]):
@@ -1157,7 +1162,7 @@ class _PendingPairs:
             else:
                 j -= 1
                 t, pe, _new = ee[j]
-            before = _key_of(ps, pe)
+            before = (ps[1] + pe[1], ps[2] + pe[2])
             if before != after:
                 # the key before this event and the seq it had then (evaluated when needed)
                 lazy = _LazySeq(self, pair, pair.key, pair.seq, i0, j0, i, j)
@@ -1181,7 +1186,7 @@ class _PendingPairs:
             else:
                 t, _old, pe = ee[j]
                 j += 1
-            new = _key_of(ps, pe)
+            new = _fast_key(ps, pe)
             if new != key:
                 # stable re-sort: worse keys go first among their new equals, better last
                 seq = (-t, key, seq) if key < new else (t, key, seq)
@@ -1236,6 +1241,8 @@ class _PendingPairs:
         self._heap = []
         self._events = {}
         self._known = {}
+        for p in pairs:
+            p.key = _pair_key(p)  # the exact mode's keys include the status
         self._pairs = pairs
         self._keys = [p.key for p in pairs]
         self._sorted = True
@@ -1262,7 +1269,7 @@ class _PendingPairs:
             self._toExact()
         if self._fast:
             self._t += 1
-            pair.key = _pair_key(pair)
+            pair.key = _fast_key(start._priority, end._priority)
             pair.seq = (self._t,)  # after all equal pairs
             es = self._events.get(start)
             ee = self._events.get(end)
