@@ -516,9 +516,12 @@ def _interpolate(path: np.ndarray, checker: _EdgeChecker, max_segment: float, mi
     for i in range(len(path) - 1):
         a, b = path[i], path[i + 1]
         n_check = checker.segments(a, b)
-        m = min(int(pieces[i]), n_check)
+        # pieces of at most `stride` checked steps each: waypoints are checked states and no
+        # piece is longer than the requested one
+        stride = max(1, n_check // int(pieces[i]))
+        m = math.ceil(n_check / stride)
         for j in range(1, m + 1):
-            t = round(j * n_check / m) / n_check  # a state the edge check looked at
+            t = math.ceil(j * n_check / m) / n_check
             out.append(a + t * (b - a))
         out[-1] = b.copy()
     return np.asarray(out)

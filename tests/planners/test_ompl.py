@@ -1,0 +1,355 @@
+"""Tests of mtc.planners.ompl_pipeline: OMPL planning on a planning scene."""
+
+from __future__ import annotations
+
+import math
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+from mtc import msgs
+from mtc.planners import ompl_pipeline as op
+from mtc.planners.constraints import KinematicConstraintSet
+from mtc.planners.ompl_pipeline import DEFAULT_PLANNER, KNOWN_PLANNERS, OMPLPipeline
+from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_state import RobotState
+
+ARM = "panda_arm"
+
+
+@pytest.fixture(scope="module")
+def pipeline():
+    return OMPLPipeline()
+
+
+def _state(scene: PlanningScene, **joints) -> RobotState:
+    st = scene.current_state.copy()
+    st.set_variable_positions(joints)
+    return st
+
+
+@pytest.fixture
+def blocked(ready_scene, add_box):
+    """The arm swings joint 1 from -1 to +1; a box where the hand passes at joint 1 = 0 blocks
+    the straight way."""
+    add_box(ready_scene, "block", (0.31, 0.0, 0.59), (0.15, 0.15, 0.15))
+    start = _state(ready_scene, panda_joint1=-1.0)
+    goal = _state(ready_scene, panda_joint1=1.0)
+    assert not ready_scene.is_state_colliding(start) and not ready_scene.is_state_colliding(goal)
+    return ready_scene, start, goal
+
+
+def _dense(positions: np.ndarray, step: float) -> np.ndarray:
+    """The polyline through ``positions`` sampled at most ``step`` apart in every joint."""
+    out = [positions[0]]
+    for a, b in zip(positions[:-1], positions[1:]):
+        n = max(1, math.ceil(np.max(np.abs(b - a)) / step))
+        out.extend(a + (b - a) * (k / n) for k in range(1, n + 1))
+    return np.asarray(out)
+
+
+def _assert_collision_free_at(scene: PlanningScene, traj, step: float) -> None:
+    """Every state along the trajectory's polyline, ``step`` apart, is collision-free."""
+    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
+    base = traj[0].positions.copy()
+    dense = _dense(traj.positions, step)
+    Q = np.repeat(base[None, :], len(dense), axis=0)
+    Q[:, idx] = dense
+    valid = scene.check_states(Q, ARM)
+    assert valid.all(), f"{(~valid).sum()} of {len(Q)} states collide"
+
+
+# --- planner ids -----------------------------------------------------------------------------
+
+
+def test_known_planners_have_moveit_and_ompl_names():
+    for name in ("RRTConnectkConfigDefault", "RRTConnect", "RRTkConfigDefault", "RRTstarkConfigDefault",
+                 "PRMkConfigDefault", "BITstarkConfigDefault", "KPIECEkConfigDefault", "LBKPIECEkConfigDefault",
+                 "BKPIECEkConfigDefault", "PRMstarkConfigDefault", "geometric::RRTConnect"):
+        assert name in KNOWN_PLANNERS, name
+    assert DEFAULT_PLANNER == "RRTConnectkConfigDefault"
+    assert op.resolve_planner_id("") == "RRTConnect"
+    assert op.resolve_planner_id("KPIECEkConfigDefault") == "KPIECE1"
+
+
+def test_unknown_planner_id_lists_the_known_ones(ready_scene, pipeline):
+    st = ready_scene.current_state
+    with pytest.raises(ValueError, match="unknown OMPL planner id 'RRTFast'.*RRTConnectkConfigDefault"):
+        pipeline.plan_joint(ready_scene, st, st, ARM, planner_id="RRTFast")
+
+
+def test_bad_arguments_are_refused(ready_scene, pipeline):
+    st = ready_scene.current_state
+    with pytest.raises(ValueError, match="timeout must be > 0"):
+        pipeline.plan_joint(ready_scene, st, st, ARM, timeout=0.0)
+    with pytest.raises(ValueError, match="num_planning_attempts"):
+        pipeline.plan_joint(ready_scene, st, st, ARM, attempts=0)
+    with pytest.raises(KeyError, match="arm"):
+        pipeline.plan_joint(ready_scene, st, st, "arm")
+
+
+# --- joint goals ------------------------------------------------------------------------------
+
+
+def test_plans_around_an_obstacle_collision_free_at_fine_resolution(blocked, pipeline):
+    """The path joins start and goal exactly, and is free at 5 mrad steps between waypoints."""
+    scene, start, goal = blocked
+    result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=5.0, seed=1)
+    assert result, result.message
+    assert result.message == ""
+    stats = pipeline.last_stats
+    assert stats.planner == "RRTConnect" and stats.states_checked > 0
+    np.testing.assert_array_equal(traj[0].positions, start.positions)
+    np.testing.assert_allclose(traj[-1].positions, goal.positions, atol=1e-12)
+    assert traj.joint_model_group_name == ARM and len(traj) >= op.MIN_WAYPOINT_COUNT
+    # waypoints no more than maximum extent / 100 apart (MoveIt's interpolation)
+    jmg = scene.robot_model.get_joint_model_group(ARM)
+    max_seg = np.linalg.norm(jmg.upper_bounds - jmg.lower_bounds) / 100
+    assert np.linalg.norm(np.diff(traj.positions, axis=0), axis=1).max() <= max_seg + 1e-9
+    # fingers untouched
+    np.testing.assert_array_equal(traj.positions.shape, (len(traj), 7))
+    assert all(w.positions[7] == start.positions[7] for w in traj)
+    _assert_collision_free_at(scene, traj, 0.005)
+    assert traj.times.tolist() == [0.0] * len(traj)  # geometric: timing is the caller's
+
+
+def test_free_straight_line_is_taken(ready_scene, pipeline):
+    start = _state(ready_scene, panda_joint1=-0.5)
+    goal = _state(ready_scene, panda_joint1=0.5, panda_joint4=-2.0)
+    result, traj = pipeline.plan_joint(ready_scene, start, goal, ARM, seed=0)
+    assert result and pipeline.last_stats.planner == "straight line"
+    d = traj.positions - start.get_joint_group_positions(ARM)
+    direction = goal.get_joint_group_positions(ARM) - start.get_joint_group_positions(ARM)
+    for row in d:  # every waypoint on the segment
+        t = row @ direction / (direction @ direction)
+        np.testing.assert_allclose(row, t * direction, atol=1e-12)
+
+
+def test_goal_within_tolerance_is_reached_at_once(ready_scene, pipeline):
+    start = ready_scene.current_state
+    goal = _state(ready_scene, panda_joint1=5e-5)
+    result, traj = pipeline.plan_joint(ready_scene, start, goal, ARM, goal_joint_tolerance=1e-4)
+    assert result and len(traj) == 2
+
+
+def test_same_seed_same_path(blocked, pipeline):
+    """Reproducible for a seed; other seeds give other paths."""
+    scene, start, goal = blocked
+    paths = []
+    for seed in (3, 3, 4, 5):
+        result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=5.0, seed=seed)
+        assert result
+        paths.append(traj.positions)
+    np.testing.assert_array_equal(paths[0], paths[1])
+    assert any(p.shape != paths[0].shape or not np.array_equal(p, paths[0]) for p in paths[2:])
+
+
+def test_more_attempts_never_give_a_longer_path(blocked, pipeline):
+    scene, start, goal = blocked
+    _, one = pipeline.plan_joint(scene, start, goal, ARM, timeout=5.0, seed=7, attempts=1)
+    length_one = pipeline.last_stats.path_length
+    result, three = pipeline.plan_joint(scene, start, goal, ARM, timeout=5.0, seed=7, attempts=3)
+    assert result and pipeline.last_stats.attempts == 3
+    assert pipeline.last_stats.path_length <= length_one + 1e-9
+
+
+@pytest.mark.parametrize("planner", ["RRTkConfigDefault", "LBKPIECEkConfigDefault", "PRMkConfigDefault",
+                                     "BKPIECEkConfigDefault", "KPIECEkConfigDefault"])
+def test_other_planners(blocked, pipeline, planner):
+    scene, start, goal = blocked
+    result, traj = pipeline.plan_joint(scene, start, goal, ARM, planner_id=planner, timeout=5.0, seed=0)
+    assert result, result.message
+    np.testing.assert_allclose(traj[-1].positions, goal.positions, atol=1e-12)
+    _assert_collision_free_at(scene, traj, 0.005)
+
+
+def test_optimizing_planner_uses_its_time_and_succeeds(blocked, pipeline):
+    scene, start, goal = blocked
+    result, traj = pipeline.plan_joint(scene, start, goal, ARM, planner_id="RRTstarkConfigDefault", timeout=1.0, seed=0)
+    assert result, result.message
+    assert pipeline.last_stats.total_time <= 1.5
+    _assert_collision_free_at(scene, traj, 0.005)
+
+
+# --- failures as data -------------------------------------------------------------------------
+
+
+def test_start_in_collision_names_the_bodies(ready_scene, add_box, pipeline):
+    add_box(ready_scene, "crate", (0.31, 0.0, 0.59), (0.1, 0.1, 0.1))
+    start = ready_scene.current_state
+    goal = _state(ready_scene, panda_joint1=1.0)
+    result, traj = pipeline.plan_joint(ready_scene, start, goal, ARM)
+    assert not result and traj is None
+    assert result.message.startswith("START_STATE_IN_COLLISION: start state is in collision: ")
+    assert "crate" in result.message and "panda_hand" in result.message
+
+
+def test_goal_in_collision(ready_scene, add_box, pipeline):
+    add_box(ready_scene, "crate", (0.31, 0.0, 0.59), (0.1, 0.1, 0.1))
+    start = _state(ready_scene, panda_joint1=-1.0)
+    goal = _state(ready_scene, panda_joint1=0.0)
+    result, traj = pipeline.plan_joint(ready_scene, start, goal, ARM)
+    assert not result and traj is None
+    assert result.message.startswith("GOAL_IN_COLLISION: goal state is in collision: ")
+    assert "crate" in result.message
+
+
+def test_start_far_outside_bounds_is_invalid(ready_scene, pipeline):
+    start = _state(ready_scene, panda_joint4=0.5)  # upper bound -0.0698
+    result, traj = pipeline.plan_joint(ready_scene, start, ready_scene.current_state, ARM)
+    assert not result and traj is None
+    assert result.message.startswith("START_STATE_INVALID: joint 'panda_joint4' = 0.5 is outside its bounds")
+
+
+def test_start_slightly_outside_bounds_is_moved_onto_them(ready_scene, pipeline):
+    """As MoveIt's FixStartStateBounds: planned from the bound, the original start prepended."""
+    upper = ready_scene.robot_model.upper_bounds[3]
+    start = _state(ready_scene, panda_joint4=upper + 0.01)
+    goal = _state(ready_scene, panda_joint4=-1.5)
+    result, traj = pipeline.plan_joint(ready_scene, start, goal, ARM)
+    assert result, result.message
+    np.testing.assert_array_equal(traj[0].positions, start.positions)
+    assert traj[1].positions[3] == pytest.approx(upper)
+    assert all(w.satisfies_bounds(ARM) for w in traj.waypoints[1:])
+
+
+def test_goal_outside_bounds(ready_scene, pipeline):
+    goal = _state(ready_scene, panda_joint1=4.0)
+    result, traj = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM)
+    assert not result and traj is None
+    assert result.message.startswith("GOAL_STATE_INVALID: goal state: joint 'panda_joint1' = 4 is outside")
+
+
+def test_timeout(blocked, pipeline):
+    scene, start, goal = blocked
+    result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=1e-4)
+    assert not result and traj is None
+    assert result.message.startswith("TIMED_OUT")
+
+
+def test_path_constraint_violations_at_start_and_goal(ready_scene, pipeline):
+    c = msgs.Constraints(
+        joint_constraints=[msgs.JointConstraint(joint_name="panda_joint1", position=0.0, tolerance_above=0.2, tolerance_below=0.2)]
+    )
+    start = _state(ready_scene, panda_joint1=0.5)
+    result, _ = pipeline.plan_joint(ready_scene, start, ready_scene.current_state, ARM, path_constraints=c)
+    assert result.message.startswith("START_STATE_VIOLATES_PATH_CONSTRAINTS")
+    assert "panda_joint1" in result.message
+    goal = _state(ready_scene, panda_joint1=-0.5)
+    result, _ = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM, path_constraints=c)
+    assert result.message.startswith("GOAL_VIOLATES_PATH_CONSTRAINTS")
+
+
+# --- path constraints -------------------------------------------------------------------------
+
+
+def test_joint_path_constraint_holds_along_the_path(blocked, pipeline):
+    """Joint 7 kept within +-0.2 of its start value while planning around the box."""
+    scene, start, goal = blocked
+    q7 = start.positions[6]
+    c = msgs.Constraints(
+        joint_constraints=[msgs.JointConstraint(joint_name="panda_joint7", position=q7, tolerance_above=0.2, tolerance_below=0.2)]
+    )
+    result, traj = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=5.0, seed=0)
+    assert result, result.message
+    assert np.all(np.abs(traj.positions[:, 6] - q7) <= 0.2 + 1e-9)
+    _assert_collision_free_at(scene, traj, 0.005)
+
+
+def test_keep_upright_orientation_constraint_at_every_waypoint(ready_scene, add_box, pipeline):
+    """The hand keeps its tilt within 0.1 rad (turning about z is free) while moving between
+    two upright poses that a straight joint motion would tilt."""
+    scene = ready_scene
+    add_box(scene, "post", (0.45, 0.25, 0.2), (0.08, 0.08, 0.4))
+    start = _state(scene, panda_joint1=-0.8)
+    R = start.get_global_link_transform("panda_hand")[:3, :3]
+    oc = msgs.OrientationConstraint(
+        header=msgs.Header(frame_id="world"),
+        link_name="panda_hand",
+        orientation=msgs.matrix_to_quaternion(R),
+        absolute_x_axis_tolerance=0.1,
+        absolute_y_axis_tolerance=0.1,
+        absolute_z_axis_tolerance=math.pi,
+        weight=1.0,
+    )
+    c = msgs.Constraints(name="upright", orientation_constraints=[oc])
+    cset = KinematicConstraintSet(scene.robot_model, c)
+    ev = cset.bind(scene)
+    jmg = scene.robot_model.get_joint_model_group(ARM)
+    q = start.positions.copy()
+    q[jmg.variable_indices] = [0.9, 0.2, 0.3, -1.6, -0.2, 1.9, 0.3]
+    goal = RobotState(scene.robot_model, ev.project(q, jmg.variable_indices, jmg.lower_bounds, jmg.upper_bounds))
+    assert cset.satisfied(goal, scene) and not scene.is_state_colliding(goal, ARM)
+    # the straight joint-space motion leaves the constraint
+    mid = start.interpolate(goal, 0.5)
+    assert not cset.satisfied(mid, scene) or scene.is_state_colliding(mid, ARM)
+    result, traj = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=10.0, seed=0)
+    assert result, result.message
+    assert pipeline.last_stats.planner == "CBiRRT"
+    for w in traj:
+        assert cset.satisfied(w, scene)
+    _assert_collision_free_at(scene, traj, 0.005)
+    np.testing.assert_allclose(traj[-1].positions, goal.positions, atol=1e-12)
+
+
+# --- pose goals -------------------------------------------------------------------------------
+
+
+def test_pose_goal_reaches_the_target(blocked, pipeline):
+    scene, start, goal = blocked
+    target = goal.get_global_link_transform("panda_hand")
+    offset = np.eye(4)
+    offset[2, 3] = 0.1034  # the TCP between the fingers
+    tcp_target = target @ offset
+    result, traj = pipeline.plan_pose(scene, start, "panda_hand", offset, tcp_target, ARM, timeout=5.0, seed=0)
+    assert result, result.message
+    reached = traj[-1].get_global_link_transform("panda_hand") @ offset
+    np.testing.assert_allclose(reached[:3, 3], tcp_target[:3, 3], atol=1e-4)
+    R = reached[:3, :3].T @ tcp_target[:3, :3]
+    assert math.acos(min(1.0, (np.trace(R) - 1) / 2)) <= 1e-4
+    _assert_collision_free_at(scene, traj, 0.005)
+
+
+def test_unreachable_pose_goal_has_no_ik_solution(ready_scene, pipeline):
+    target = np.eye(4)
+    target[:3, 3] = [2.0, 0.0, 0.5]  # 2 m away: out of reach
+    result, traj = pipeline.plan_pose(ready_scene, ready_scene.current_state, "panda_hand", np.eye(4), target, ARM,
+                                      timeout=0.5, seed=0)
+    assert not result and traj is None
+    assert result.message.startswith("NO_IK_SOLUTION")
+
+
+# --- edge checking and clean output -----------------------------------------------------------
+
+
+def test_bisection_order_is_a_permutation_with_the_end_first():
+    for n in (1, 2, 3, 7, 16, 33):
+        order = op._bisection_order(n)
+        assert order[0] == n and sorted(order.tolist()) == list(range(1, n + 1))
+    assert op._bisection_order(8)[:4].tolist() == [8, 4, 2, 6]
+
+
+def test_planning_prints_nothing_and_leaks_nothing():
+    """OMPL's objects are released: no nanobind leak report or OMPL chatter at exit."""
+    code = textwrap.dedent(
+        """
+        import numpy as np, mtc
+        from mtc import msgs
+        from mtc.planners.ompl_pipeline import OMPLPipeline
+        scene = mtc.PlanningScene(mtc.robots.panda())
+        scene.current_state.set_to_default_values("panda_arm", "ready")
+        scene.apply_collision_object(msgs.CollisionObject(id="b", header=msgs.Header(frame_id="world"),
+            primitives=[msgs.SolidPrimitive(type=1, dimensions=[0.15, 0.15, 0.15])],
+            primitive_poses=[msgs.Pose(position=msgs.Point(x=0.31, z=0.59), orientation=msgs.Quaternion(w=1))]))
+        a = scene.current_state.copy(); a.set_variable_positions({"panda_joint1": -1.0})
+        b = scene.current_state.copy(); b.set_variable_positions({"panda_joint1": 1.0})
+        r, t = OMPLPipeline().plan_joint(scene, a, b, "panda_arm", timeout=5.0)
+        assert r, r.message
+        """
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stdout == "" and proc.stderr == "", proc.stdout + proc.stderr

@@ -1,0 +1,56 @@
+"""Smoke test of bench/motion_bench.py: two box problems, the table printed."""
+
+from __future__ import annotations
+
+import io
+import sys
+from pathlib import Path
+
+import pytest
+
+# bench/ is not part of the installed package; import it from the repository root.
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from bench import motion_bench  # noqa: E402
+
+
+def _have_pyroboplan() -> bool:
+    try:
+        import pyroboplan.planning.rrt  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def test_two_box_problems_are_solved_and_tabulated():
+    out = io.StringIO()
+    baseline = _have_pyroboplan()  # a bench-only extra: compared when installed
+    rows = motion_bench.run(
+        families=["box"], problems=2, table_shelf=0, timeout=5.0, baseline=baseline, baseline_timeout=10.0, out=out
+    )
+    assert [r["family"] for r in rows] == ["box"]
+    s = rows[0]["mtc"]
+    assert s["n"] == 2 and s["invalid"] == 0 and s["solved"] == 2 and s["within_1s"] == 2
+    assert 0 < s["median_ms"] < 1000 and s["checks_per_s"] > 1000
+    text = out.getvalue()
+    assert "| family | planner |" in text and "| box | mtc | 2 | 0 | 2 | 100% |" in text
+    if baseline:
+        assert "| box | pyroboplan | 2 |" in text and rows[0]["speedup"] > 1
+
+
+def test_invalid_problems_are_reported_not_planned():
+    """table_pick/0031's goal lies outside example-robot-data's joint-4 limit."""
+    problem = motion_bench.load_family("table_pick")[30]
+    r = motion_bench.run_mtc(motion_bench.mtc.robots.panda(), problem, 1.0, 0, motion_bench.OMPLPipeline())
+    assert not r["success"] and r["status"].startswith("invalid: goal panda_joint4=") and r["time_s"] == 0.0
+    assert motion_bench.summarize([r])["invalid"] == 1
+
+
+def test_scene_building_keeps_obstacles_acm_and_fingers():
+    model = motion_bench.mtc.robots.panda()
+    problem = motion_bench.load_family("box")[0]
+    scene = motion_bench.build_scene(model, problem.obstacles, problem.allowed_collisions, motion_bench.finger_opening(problem))
+    assert len(scene.world_object_names) == len(problem.obstacles)
+    assert scene.current_state.joint_positions["panda_finger_joint1"] == pytest.approx(0.04)
+    start, goal = motion_bench.problem_states(scene, problem)
+    assert not scene.is_state_colliding(start, "panda_arm") and not scene.is_state_colliding(goal, "panda_arm")
