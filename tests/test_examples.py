@@ -55,6 +55,9 @@ TESTED = [
     "fallbacks",
     "merger",
     "multi_planner",
+    "compute_ik",
+    "generate_pose",
+    "constrained",
 ]
 
 
@@ -178,3 +181,44 @@ def test_multi_planner_only_goal_1_succeeds():
     alternatives = task["Alternatives"]
     assert len(alternatives["Move To Goal Configuration 1"].solutions) == 1
     assert len(alternatives["Move To Goal Configuration 2"].solutions) == 0
+
+
+def test_compute_ik_connects_to_each_ik_solution():
+    task = run_example("compute_ik")
+    assert 1 <= len(task.solutions) <= 4  # max_ik_solutions = 4
+    costs = [solution.cost for solution in task.solutions]
+    assert costs == sorted(costs)
+    # every solution ends with panda_link8 0.2 m along the start flange's z axis
+    for solution in task.solutions:
+        start = solution.start.scene.current_state.get_global_link_transform("panda_link8")
+        end = end_scene(solution).current_state.get_global_link_transform("panda_link8")
+        target = start[:3, 3] + 0.2 * start[:3, 2]
+        assert end[:3, 3] == pytest.approx(target, abs=1e-3)
+
+
+def test_generate_pose_connects_identical_states():
+    task = run_example("generate_pose")
+    assert len(task.solutions) == 1
+    solution = task.solutions[0]
+    start = solution.start.scene.current_state.get_joint_group_positions("panda_arm")
+    end = end_scene(solution).current_state.get_joint_group_positions("panda_arm")
+    assert end == pytest.approx(start, abs=1e-6)
+
+
+def test_constrained_motion_keeps_the_object_upright():
+    from mtc.planners.constraints import KinematicConstraintSet
+
+    namespace = runpy.run_path(str(EXAMPLES / "constrained.py"), run_name="example_constrained")
+    task = namespace["main"]([])
+    assert len(task.solutions) == 1
+    move = task["y +0.4"].solutions[0]
+    scene = end_scene(move)
+    assert scene.attached_object_names == ["object"]
+    upright = KinematicConstraintSet(scene.robot_model, namespace["upright_constraint"]())
+    trajectory = move.trajectory
+    assert len(trajectory) >= 2
+    assert all(upright.satisfied(trajectory[i], scene) for i in range(len(trajectory)))
+    assert scene.is_path_valid(trajectory, "panda_arm")
+    start = move.start.scene.get_frame_transform("object")[:3, 3]
+    end = scene.get_frame_transform("object")[:3, 3]
+    assert end - start == pytest.approx([0.0, 0.4, 0.0], abs=1e-3)
