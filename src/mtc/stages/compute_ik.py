@@ -333,9 +333,10 @@ class ComputeIK(WrapperBase):
             # build the scene's collision set-up now (the candidates' scenes share it), so its
             # one-time cost is not taken from the IK time budget
             scene.is_state_colliding(scene.current_state, jmg.name)
-        deadline = time.perf_counter() + float(p.get("timeout"))
         rng = np.random.default_rng([int(p.get("seed")) & 0xFFFFFFFF, self._consumed])
         self._consumed += 1
+        # the clock starts after all set-up, so only IK and checks count against the timeout
+        deadline = time.perf_counter() + float(p.get("timeout"))
         idx = np.asarray(jmg.variable_indices, dtype=int)
         recorded: list[np.ndarray] = []
         found = 0

@@ -1,0 +1,286 @@
+"""Tests of stages.ComputeIK: IK solutions for the target poses of a wrapped generator."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import mtc
+from mtc import core, msgs, stages
+
+TCP_OFFSET = 0.1034  # panda_hand -> finger tip centre
+
+
+def _pose(frame="panda_link8", x=0.0, y=0.0, z=0.0, q=(0.0, 0.0, 0.0, 1.0)):
+    return msgs.PoseStamped(
+        header=msgs.Header(frame_id=frame),
+        pose=msgs.Pose(position=msgs.Point(x=x, y=y, z=z), orientation=msgs.Quaternion(x=q[0], y=q[1], z=q[2], w=q[3])),
+    )
+
+
+def _ik_task(make_task, pose, configure=None, introspection=True, **ik_props):
+    """The seed's compute_ik.py: CurrentState -> Connect -> ComputeIK(GeneratePose(pose))."""
+    current = stages.CurrentState("current state")
+    connect = stages.Connect("connect", [("panda_arm", core.JointInterpolationPlanner())])
+    generator = stages.GeneratePose("cartesian pose")
+    generator.setMonitoredStage(current)
+    generator.pose = pose
+    ik = stages.ComputeIK("compute IK", generator)
+    ik.group = "panda_arm"
+    for k, v in ik_props.items():
+        setattr(ik, k, v)
+    ik.properties.configureInitFrom(core.Stage.PropertyInitializerSource.INTERFACE, ["target_pose"])
+    if configure:
+        configure(ik)
+    return make_task(current, connect, ik, introspection=introspection), ik
+
+
+def _frame(solution, frame):
+    return solution.end.scene.get_frame_transform(frame)
+
+
+def _target(scene, pose):
+    return scene.get_frame_transform(pose.header.frame_id) @ msgs.pose_to_matrix(pose.pose)
+
+
+def test_defaults():
+    """MTC's properties and defaults, plus seed and max_ik_attempts."""
+    ik = stages.ComputeIK()
+    assert ik.name == "IK" and ik.wrapped() is None
+    assert ik.default_pose == ""
+    assert ik.max_ik_solutions == 1
+    assert ik.ignore_collisions is False
+    assert ik.min_solution_distance == 0.1
+    assert ik.constraints == msgs.Constraints()
+    assert ik.seed == 0 and ik.max_ik_attempts == 20
+    for name in ("eef", "group", "ik_frame", "target_pose", "timeout"):
+        assert ik.properties.get(name, None) is None
+    with pytest.raises(TypeError):
+        ik.max_ik_solutions = -1
+    with pytest.raises(TypeError):
+        ik.ik_frame = 3
+
+
+def test_setters():
+    """C++ setters: setIKFrame and setTargetPose overloads, and the scalar ones."""
+    ik = stages.ComputeIK("ik", stages.GeneratePose())
+    ik.setEndEffector("hand")
+    ik.setGroup("panda_arm")
+    ik.setMaxIKSolutions(3)
+    ik.setIgnoreCollisions(True)
+    ik.setMinSolutionDistance(0.5)
+    assert (ik.eef, ik.group, ik.max_ik_solutions, ik.ignore_collisions, ik.min_solution_distance) == (
+        "hand", "panda_arm", 3, True, 0.5)
+    ik.setIKFrame("panda_hand")
+    assert ik.ik_frame.header.frame_id == "panda_hand" and ik.ik_frame.pose.orientation.w == 1.0
+    T = np.eye(4)
+    T[2, 3] = TCP_OFFSET
+    ik.setIKFrame(T, "panda_hand")
+    assert ik.ik_frame.pose.position.z == pytest.approx(TCP_OFFSET)
+    ik.setIKFrame(_pose("panda_link8", z=0.1))
+    assert ik.ik_frame.header.frame_id == "panda_link8"
+    ik.setTargetPose(T)
+    assert ik.target_pose.header.frame_id == "" and ik.target_pose.pose.position.z == pytest.approx(TCP_OFFSET)
+    ik.setTargetPose(T, "world")
+    assert ik.target_pose.header.frame_id == "world"
+    with pytest.raises(TypeError):
+        ik.setIKFrame(1, 2, 3)
+
+
+@pytest.mark.parametrize("props, message", [({"eef": "claw"}, "Unknown end effector: claw"),
+                                            ({"group": "legs"}, "Unknown group: legs")])
+def test_init_errors(make_task, props, message):
+    """A defined but unknown eef / group is an init error naming the stage."""
+    task, _ = _ik_task(make_task, _pose(z=0.1), **props)
+    with pytest.raises(core.InitStageError, match=f"compute IK: {message}"):
+        task.init()
+
+
+def test_seed_compute_ik(make_task):
+    """The seed's compute_ik.py (pose 0.2 m along panda_link8's z, 4 IK solutions): the IK frame
+    reaches the target in every solution, the solutions are distinct and cost-ordered."""
+    pose = _pose(z=0.2)
+    task, ik = _ik_task(make_task, pose, ik_frame=_pose(), max_ik_solutions=4)
+    assert task.plan()
+    assert len(ik.solutions) == 4
+    start = task["current state"].solutions[0].end.scene
+    target = _target(start, pose)
+    for s in ik.solutions:
+        np.testing.assert_allclose(_frame(s, "panda_link8"), target, atol=1e-5)
+    q = [s.end.scene.current_state.get_joint_group_positions("panda_arm") for s in ik.solutions]
+    for i in range(4):
+        for j in range(i):
+            assert np.abs(q[i] - q[j]).sum() >= 0.1
+    costs = [s.cost for s in ik.solutions]
+    assert costs == sorted(costs)
+    # cost = joint distance to the start state
+    q0 = start.current_state.get_joint_group_positions("panda_arm")
+    assert costs[0] == pytest.approx(np.abs(q[0] - q0).sum())
+    assert task.numSolutions() == 4
+    # MTC's timeout default is the group's IK timeout
+    assert ik.properties.get("timeout") == mtc.robots.panda().get_joint_model_group("panda_arm").default_ik_timeout
+
+
+def test_eef_derives_group_and_link(make_task):
+    """Only eef set: group = its parent group, IK link = its parent link (panda_link8)."""
+    pose = _pose(z=0.1)
+    task, ik = _ik_task(make_task, pose)
+    ik.properties.property("group").setValue(None)
+    ik.eef = "hand"
+    assert task.plan()
+    start = task["current state"].solutions[0].end.scene
+    np.testing.assert_allclose(_frame(ik.solutions[0], "panda_link8"), _target(start, pose), atol=1e-5)
+
+
+def test_ik_frame_with_offset(make_task):
+    """ik_frame = the TCP (an offset on panda_hand): the TCP, not the link, reaches the target."""
+    target = _pose("world", x=0.45, y=0.1, z=0.3, q=(1.0, 0.0, 0.0, 0.0))
+    task, ik = _ik_task(make_task, target)
+    ik.setIKFrame(_pose("panda_hand", z=TCP_OFFSET))
+    assert task.plan()
+    np.testing.assert_allclose(_frame(ik.solutions[0], "panda_hand_tcp"), _target(ik.solutions[0].end.scene, target),
+                               atol=1e-5)
+
+
+def test_ik_frame_on_attached_object_subframe(make_task):
+    """ik_frame = a subframe of an object attached to the hand: that subframe reaches the target."""
+    scene = mtc.current_scene()
+    scene.apply_collision_object(msgs.CollisionObject(
+        id="tool", header=msgs.Header(frame_id="panda_hand"),
+        primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.02, 0.02, 0.1])],
+        primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+        pose=msgs.Pose(position=msgs.Point(z=0.15), orientation=msgs.Quaternion(w=1.0)),
+        subframe_names=["tip"], subframe_poses=[msgs.Pose(position=msgs.Point(z=0.05), orientation=msgs.Quaternion(w=1.0))],
+        operation=msgs.CollisionObject.ADD))
+    scene.attach_object("tool", "panda_hand", ["panda_leftfinger", "panda_rightfinger"])
+    target = _pose("world", x=0.4, y=-0.1, z=0.3, q=(1.0, 0.0, 0.0, 0.0))
+    task, ik = _ik_task(make_task, target, ik_frame=_pose("tool/tip"))
+    assert task.plan()
+    s = ik.solutions[0]
+    np.testing.assert_allclose(_frame(s, "tool/tip"), _target(s.end.scene, target), atol=1e-5)
+
+
+def test_default_pose_is_the_cost_reference(make_task):
+    """default_pose 'extended': the cost is the joint distance to that named state."""
+    task, ik = _ik_task(make_task, _pose(z=0.1), default_pose="extended")
+    assert task.plan()
+    model = mtc.robots.panda()
+    ref = np.array([model.get_group_state("panda_arm", "extended")[f"panda_joint{i}"] for i in range(1, 8)])
+    q = ik.solutions[0].end.scene.current_state.get_joint_group_positions("panda_arm")
+    assert ik.solutions[0].cost == pytest.approx(np.abs(q - ref).sum())
+
+
+def test_same_task_same_solutions(make_task):
+    """Seeded restarts: the same task finds the same IK solutions."""
+
+    def run():
+        task, ik = _ik_task(make_task, _pose(z=0.2), max_ik_solutions=3)
+        assert task.plan()
+        return [s.end.scene.current_state.positions for s in ik.solutions]
+
+    a, b = run(), run()
+    assert len(a) == len(b) == 3
+    for x, y in zip(a, b):
+        np.testing.assert_array_equal(x, y)
+
+
+def test_eef_in_collision(make_task, box):
+    """An obstacle at the target: failure "eef in collision: <link> - obstacle", no IK is tried."""
+    mtc.current_scene().apply_collision_object(box("obstacle", (0.5, 0.0, 0.4), size=(0.12, 0.12, 0.12)))
+    task, ik = _ik_task(make_task, _pose("world", x=0.5, y=0.0, z=0.4, q=(1.0, 0.0, 0.0, 0.0)),
+                        ik_frame=_pose("panda_hand", z=TCP_OFFSET))
+    assert not task.plan()
+    (failure,) = ik.failures
+    assert failure.comment.startswith("eef in collision: ")
+    assert "obstacle" in failure.comment and "finger" in failure.comment
+
+
+def test_eef_in_collision_comment_starts_with_the_upstream_comment(make_task, box):
+    """The generator's comment (here GenerateGraspPose's angle) prefixes ComputeIK's failure comment."""
+    mtc.current_scene().apply_collision_object(box("object", (0.5, 0.0, 0.4), size=(0.2, 0.2, 0.2)))
+    current = stages.CurrentState("current")
+    g = stages.GenerateGraspPose("grasp")
+    g.eef, g.object, g.pregrasp, g.angle_delta = "hand", "object", "open", math.pi
+    g.setMonitoredStage(current)
+    ik = stages.ComputeIK("ik", g)
+    ik.eef = "hand"
+    task = make_task(current, stages.Connect("c", [("panda_arm", core.JointInterpolationPlanner())]), ik)
+    assert not task.plan()
+    assert sorted(f.comment.split(" eef in collision: ")[0] for f in ik.failures) == ["3.141593", "6.283185"]
+
+
+def test_ignore_collisions_skips_the_checks(make_task, box):
+    """ignore_collisions: the same blocked target is solved."""
+    mtc.current_scene().apply_collision_object(box("obstacle", (0.5, 0.0, 0.4), size=(0.12, 0.12, 0.12)))
+    task, ik = _ik_task(make_task, _pose("world", x=0.5, y=0.0, z=0.4, q=(1.0, 0.0, 0.0, 0.0)),
+                        ik_frame=_pose("panda_hand", z=TCP_OFFSET), ignore_collisions=True)
+    task.plan()  # Connect cannot reach a colliding state, but ComputeIK spawns it
+    assert len(ik.solutions) == 1 and ik.numFailures() == 0
+    assert ik.solutions[0].end.scene.is_state_colliding()
+
+
+def test_no_ik_found(make_task):
+    """An unreachable target (2 m away): failure "no IK found"."""
+    task, ik = _ik_task(make_task, _pose("world", x=2.0, z=0.5))
+    assert not task.plan()
+    assert [f.comment for f in ik.failures] == ["no IK found"]
+
+
+def test_colliding_solution(make_task, sphere):
+    """A sphere around the elbow of the start state: the candidate found from the start state is
+    spawned as a failure "Collision between ... - obstacle"."""
+    start = mtc.current_scene().current_state
+    elbow = start.get_global_link_transform("panda_link4")[:3, 3]
+    mtc.current_scene().apply_collision_object(sphere("obstacle", tuple(elbow), radius=0.08))
+    task, ik = _ik_task(make_task, _pose(), max_ik_attempts=3)  # the current pose of panda_link8
+    task.plan()
+    comments = [f.comment for f in ik.failures]
+    assert any(c.startswith("Collision between ") and "obstacle" in c for c in comments)
+
+
+def test_constraints_violated(make_task):
+    """A joint constraint the start configuration violates: failure "Constraints violated"."""
+    constraints = msgs.Constraints(joint_constraints=[
+        msgs.JointConstraint(joint_name="panda_joint1", position=1.0, tolerance_above=0.01, tolerance_below=0.01,
+                             weight=1.0)])
+    task, ik = _ik_task(make_task, _pose(), constraints=constraints, max_ik_attempts=3)
+    assert not task.plan()
+    assert "Constraints violated" in [f.comment for f in ik.failures]
+
+
+@pytest.mark.parametrize(
+    "pose, ik_frame, message",
+    [
+        (_pose("nowhere"), None, "Unknown reference frame for target pose: 'nowhere'"),
+        (_pose(z=0.1), _pose("nowhere"), "ik frame unknown in robot: 'nowhere'"),
+    ],
+)
+def test_unknown_frames(make_task, pose, ik_frame, message):
+    """Unknown frames of the target pose or the IK frame are failures with MTC's words."""
+    extra = {} if ik_frame is None else {"ik_frame": ik_frame}
+    task, ik = _ik_task(make_task, pose, **extra)
+    if pose.header.frame_id == "nowhere":
+        # GeneratePose already fails on the unknown frame; give ComputeIK the pose directly
+        ik.wrapped().pose = _pose(z=0.1)
+        ik.setTargetPose(pose)
+    assert not task.plan()
+    assert [f.comment for f in ik.failures] == [message]
+
+
+def test_neither_eef_nor_group(make_task):
+    """Without eef and group: failure "Neither eef nor group are well defined"."""
+    task, ik = _ik_task(make_task, _pose(z=0.1))
+    ik.properties.property("group").setValue(None)
+    assert not task.plan()
+    assert [f.comment for f in ik.failures] == ["Neither eef nor group are well defined"]
+
+
+def test_forwarded_properties_reach_the_ik_states(make_task):
+    """ComputeIK copies its forwarded properties from the generator's state to its own states."""
+    task, ik = _ik_task(make_task, _pose(z=0.1))
+    ik.wrapped().setForwardedProperties(["extra"])
+    ik.setForwardedProperties(["target_pose"])
+    assert task.plan()
+    assert ik.solutions[0].end.properties["target_pose"].pose.position.z == pytest.approx(0.1)
