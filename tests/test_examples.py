@@ -58,6 +58,7 @@ TESTED = [
     "compute_ik",
     "generate_pose",
     "constrained",
+    "properties",
 ]
 
 
@@ -222,3 +223,17 @@ def test_constrained_motion_keeps_the_object_upright():
     start = move.start.scene.get_frame_transform("object")[:3, 3]
     end = scene.get_frame_transform("object")[:3, 3]
     assert end - start == pytest.approx([0.0, 0.4, 0.0], abs=1e-3)
+
+
+def test_properties_tutorial(capsys):
+    namespace = runpy.run_path(str(EXAMPLES / "properties.py"), run_name="example_properties")
+    pm, pm2, stage = namespace["property_tutorial"]()
+    out = capsys.readouterr().out.splitlines()
+    assert out[:5] == ["Bar", "Bar", "Foo Property", "2", "2"]
+    assert list(pm) == ["prop1", "prop2", "prop3", "prop4", "prop5"]
+    assert pm["prop2"] == 21 and pm["prop4"] == 5.4
+    assert sorted(pm2) == ["prop2", "prop4"]
+    assert pm2["prop2"] == 21 and pm2["prop4"] == 5.4
+    assert "timeout" in stage.properties
+    task = namespace["main"]([])
+    assert len(task.solutions) == 1
