@@ -46,6 +46,7 @@ def test_defaults():
     assert c.merge_mode == stages.MergeMode.WAYPOINTS
     assert c.max_distance == 1e-2
     assert c.path_constraints == msgs.Constraints()
+    assert type(c.merge_time_parameterization).__name__ == "TimeOptimalTrajectoryGeneration"
     assert isinstance(c.costTerm(), core.PathLength)
     assert int(stages.MergeMode.SEQUENTIAL) == 0 and int(stages.MergeMode.WAYPOINTS) == 1
 
@@ -213,6 +214,12 @@ def test_two_groups_merged(make_task, ready_scene):
     last = traj[len(traj) - 1]
     assert last.distance(end.current_state) < 1e-6
     assert set(traj.joint_names) >= {"panda_joint1", "panda_finger_joint1"}
+    # both groups move from the first waypoint on, and the merged path is timed
+    second = traj[1]
+    start = sol.start.scene.current_state
+    assert second.joint_positions["panda_finger_joint1"] < start.joint_positions["panda_finger_joint1"]
+    assert second.joint_positions["panda_joint2"] != pytest.approx(start.joint_positions["panda_joint2"])
+    assert traj.duration > 0 and all(b >= a for a, b in zip(traj.times, traj.times[1:]))
 
 
 def test_second_group_failure_is_a_sequence_with_the_failed_part(make_task, ready_scene):

@@ -12,9 +12,11 @@ import logging
 from enum import IntEnum
 
 from mtc import msgs
+from mtc.core.container import MergeError, merge_trajectories
 from mtc.core.cost_terms import PathLength
 from mtc.core.stage import Connecting, InitStageError
 from mtc.core.storage import InterfaceState, SolutionSequence, SubTrajectory
+from mtc.planners.time_parameterization import TimeOptimalTrajectoryGeneration
 from mtc.stages.move_to import check_planner, planner_message
 
 __all__ = ["Connect", "MergeMode"]
@@ -56,7 +58,7 @@ class Connect(Connecting):
             goal [rad] (1e-2).
         path_constraints: ``msgs.Constraints`` to hold along the path.
         merge_time_parameterization: Time parameterization of merged trajectories
-            (None: the default, time-optimal).
+            (a ``TimeOptimalTrajectoryGeneration``; None also means time-optimal).
 
     Start and end states are only paired if their worlds agree (as every Connecting stage)
     and every joint that no planner moves has the same value in both (within 1e-4).
@@ -75,7 +77,8 @@ class Connect(Connecting):
         p.declare("merge_mode", MergeMode.WAYPOINTS, "merge mode", type=MergeMode, convert=_to_merge_mode)
         p.declare("max_distance", 1e-2, "maximally accepted distance between end and goal state")
         p.declare("path_constraints", msgs.Constraints(), "constraints to maintain during trajectory")
-        p.declare("merge_time_parameterization", None, "time parameterization of merged trajectories")
+        p.declare("merge_time_parameterization", TimeOptimalTrajectoryGeneration(),
+                  "time parameterization of merged trajectories", type=None)
         self._merging = False
         self._planned_joints: set[str] = set()
 
@@ -231,11 +234,6 @@ class Connect(Connecting):
         if len(trajectories) == 1:
             return SubTrajectory(trajectories[0])
         if not self._merging:
-            return None
-        try:
-            from mtc.core.merge import MergeError, merge_trajectories
-        except ImportError:  # pragma: no cover - the engine ships it
-            log.warning("%s: trajectory merging is not available; storing sequentially", self.name)
             return None
         try:
             merged = merge_trajectories(trajectories, state, self.properties.get("merge_time_parameterization", None))
