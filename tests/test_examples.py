@@ -59,6 +59,7 @@ TESTED = [
     "generate_pose",
     "constrained",
     "properties",
+    "pickplace",
 ]
 
 
@@ -237,3 +238,27 @@ def test_properties_tutorial(capsys):
     assert "timeout" in stage.properties
     task = namespace["main"]([])
     assert len(task.solutions) == 1
+
+
+def test_pickplace_moves_the_box_to_the_place_pose():
+    from mtc.planners.constraints import KinematicConstraintSet
+
+    namespace = runpy.run_path(str(EXAMPLES / "pickplace.py"), run_name="example_pickplace")
+    task = namespace["main"](["--view"])
+    assert len(task.solutions) >= 1
+    costs = [solution.cost for solution in task.solutions]
+    assert costs == sorted(costs)
+    for solution in task.solutions:
+        start, end = solution.start.scene, end_scene(solution)
+        assert start.get_frame_transform("grasp_object")[:3, 3] == pytest.approx([0.30702, 0.0, 0.285])
+        assert end.attached_object_names == []
+        assert end.get_frame_transform("grasp_object")[:3, 3] == pytest.approx([-0.2, -0.6, 0.0], abs=1e-6)
+    # the transfer keeps the box upright at every waypoint
+    carry = task[3]
+    assert carry.name == "connect" and len(carry.solutions) >= 1
+    upright = KinematicConstraintSet(mtc.robots.panda(), namespace["upright"]())
+    for solution in carry.solutions:
+        scene = solution.start.scene
+        assert scene.attached_object_names == ["grasp_object"]
+        trajectory = solution.trajectory
+        assert all(upright.satisfied(trajectory[i], scene) for i in range(len(trajectory)))
