@@ -108,14 +108,15 @@ def test_scaling_slows_down(panda):
 
 
 def test_fifty_waypoints_under_five_milliseconds(panda):
-    """A 50-waypoint path is timed in under 5 ms (median of 20)."""
+    """A 50-waypoint path is timed in under 5 ms (median of 20, CPU time of this process, so
+    that other processes on a busy machine do not count)."""
     rng = np.random.default_rng(4)
     paths = [_curved_path(panda, rng) for _ in range(20)]
     durations = []
     for traj in paths:
-        t0 = time.perf_counter()
+        t0 = time.process_time()
         time_parameterize(traj)
-        durations.append(time.perf_counter() - t0)
+        durations.append(time.process_time() - t0)
     assert np.median(durations) < 5e-3
 
 

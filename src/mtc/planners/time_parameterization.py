@@ -202,7 +202,8 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0):
     h = np.diff(s)
     parts = np.maximum(1, np.ceil(h * (grid_points / L) - 1e-9)).astype(int)
     seg = np.repeat(np.arange(n - 1), parts)
-    frac = np.concatenate([np.arange(p) / p for p in parts])
+    starts = np.repeat(np.cumsum(parts) - parts, parts)
+    frac = (np.arange(parts.sum()) - starts) / np.repeat(parts, parts)
     grid = np.concatenate((s[seg] + frac * h[seg], [L]))
     seg = np.concatenate((seg, [n - 2]))
     knot_index = np.concatenate(([0], np.cumsum(parts)))
@@ -234,43 +235,48 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0):
         # a point where nothing limits the speed (the path does not move any joint): cannot be
         xmax = np.where(np.isfinite(xmax), xmax, 0.0)
 
-    ds = np.diff(grid).tolist()
-    c_rows = np.where(np.isfinite(c), c, 1e300).tolist()
+    dsa = np.diff(grid)
+    ds = dsa.tolist()
+    c_fin = np.where(np.isfinite(c), c, 1e300)
+    c_rows = c_fin.tolist()
     b_rows = beta.tolist()
     xm = xmax.tolist()
+    # backward-pass lines: x_i <= (x_{i+1} + 2Δ c) / (1 + 2Δ b) = A + B x_{i+1} where 1 + 2Δ b > 0
+    two_d = 2.0 * dsa[:, None]
+    slope = 1.0 + two_d * beta[:-1]
+    binding = (slope > 0.0) & np.isfinite(c[:-1])
+    safe_slope = np.where(binding, slope, 1.0)
+    A_rows = np.where(binding, two_d * c_fin[:-1] / safe_slope, np.inf).tolist()
+    B_rows = np.where(binding, 1.0 / safe_slope, 0.0).tolist()
 
     # backward pass: largest x at each grid point from which the end (at rest) is reachable
     xb = [0.0] * G
     for i in range(G - 2, -1, -1):
-        two_d = 2.0 * ds[i]
         bound = xm[i]
         nxt = xb[i + 1]
-        for ci, bi in zip(c_rows[i], b_rows[i]):
-            slope = 1.0 + two_d * bi
-            if slope > 0.0:
-                v = (nxt + two_d * ci) / slope
-                if v < bound:
-                    bound = v
+        for a, b in zip(A_rows[i], B_rows[i]):
+            v = a + b * nxt
+            if v < bound:
+                bound = v
         xb[i] = bound if bound > 0.0 else 0.0
 
     # forward pass: from rest, the largest admissible acceleration that stays controllable
     x = [0.0] * G
     u = [0.0] * G
     for i in range(G - 1):
-        two_d = 2.0 * ds[i]
+        two_di = 2.0 * ds[i]
         xi = x[i]
-        umax = (xb[i + 1] - xi) / two_d
+        umax = (xb[i + 1] - xi) / two_di
         umin = -math.inf
         for ci, bi in zip(c_rows[i], b_rows[i]):
-            hi = ci + bi * xi
-            lo = -ci + bi * xi
-            if hi < umax:
-                umax = hi
-            if lo > umin:
-                umin = lo
+            bx = bi * xi
+            if ci + bx < umax:
+                umax = ci + bx
+            if bx - ci > umin:
+                umin = bx - ci
         ui = umax if umax > umin else umin  # umin <= umax holds up to rounding
         u[i] = ui
-        xn = xi + two_d * ui
+        xn = xi + two_di * ui
         x[i + 1] = min(max(xn, 0.0), xb[i + 1])
     # at the end (x = 0) keep the last deceleration, clamped into the last point's limits
     cl = min(c_rows[-1]) if c_rows[-1] else 0.0
