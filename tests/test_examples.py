@@ -60,6 +60,9 @@ TESTED = [
     "constrained",
     "properties",
     "pickplace",
+    "fallbacks_move_to",
+    "alternative_path_costs",
+    "ik_clearance_cost",
 ]
 
 
@@ -262,3 +265,80 @@ def test_pickplace_moves_the_box_to_the_place_pose():
         assert scene.attached_object_names == ["grasp_object"]
         trajectory = solution.trajectory
         assert all(upright.satisfied(trajectory[i], scene) for i in range(len(trajectory)))
+
+
+# ---------------------------------------------------------------------------------------------
+# MTC's C++ demos, ported (§6.1)
+
+
+def test_fallbacks_move_to_each_start_takes_its_own_planner():
+    task = run_example("fallbacks_move_to")
+    assert len(task.solutions) == 3
+    fallbacks = task["move to other side"]
+
+    def starts(child):
+        return sorted(round(s.start.scene.current_state.joint_positions["panda_joint4"], 4)
+                      for s in fallbacks[child].solutions)
+
+    def obstacles(child):
+        return [s.start.scene.world_object_names for s in fallbacks[child].solutions]
+
+    assert len(fallbacks["Cartesian path"].solutions) == 1  # (a)
+    assert obstacles("Cartesian path") == [[]]
+    assert starts("PTP path") == [-0.0698]  # (b): the stretched arm
+    assert obstacles("RRT path") == [["box"]]  # (c): around the box
+    # every start reaches the target: 'ready' turned by tau/8 (the Cartesian path reaches its
+    # flange pose, the joint-space planners its joint values)
+    target = mtc.RobotState(mtc.robots.panda())
+    target.set_to_default_values("panda_arm", "ready")
+    target.joint_positions = {"panda_joint1": 0.7853981633974483}
+    for child in ("PTP path", "RRT path"):
+        for solution in fallbacks[child].solutions:
+            end = end_scene(solution).current_state.get_joint_group_positions("panda_arm")
+            assert end == pytest.approx(target.get_joint_group_positions("panda_arm"), abs=1e-3)
+    for solution in fallbacks["Cartesian path"].solutions:
+        end = end_scene(solution).current_state.get_global_link_transform("panda_link8")
+        assert end == pytest.approx(target.get_global_link_transform("panda_link8"), abs=1e-3)
+
+
+def test_alternative_path_costs_one_solution_per_cost_term():
+    task = run_example("alternative_path_costs")
+    assert len(task.solutions) == 5
+    alternatives = task["connect"]
+    expected = {
+        "path length": core.PathLength(),
+        "trajectory duration": core.TrajectoryDuration(),
+        "eef motion": core.LinkMotion("panda_hand"),
+        "elbow motion": core.LinkMotion("panda_link4"),
+        "eef rotation": core.LinkRotation("panda_hand"),
+    }
+    for name, term in expected.items():
+        connect = alternatives[name]
+        assert len(connect.solutions) == 1, name
+        solution = connect.solutions[0]
+        value = term(solution)
+        value = value[0] if isinstance(value, tuple) else value
+        assert solution.cost == pytest.approx(value), name
+    # the same kind of motion costs differently under different terms
+    assert len({round(s.cost, 6) for s in task.solutions}) == 5
+
+
+def test_ik_clearance_cost_orders_ik_solutions_by_clearance():
+    task = run_example("ik_clearance_cost")
+    n = len(task.solutions)
+    assert 5 <= n <= 100  # a 1 s IK budget: the count depends on the machine
+    costs = [solution.cost for solution in task.solutions]
+    assert costs == sorted(costs)
+    assert costs[0] < costs[-1]
+    import numpy as np
+
+    target = np.array([[-1.0, 0, 0, 0.3], [0, 1, 0, 0], [0, 0, -1, 0.35], [0, 0, 0, 1]])
+    for solution in task.solutions:
+        scene = end_scene(solution)
+        state = scene.current_state
+        assert state.get_global_link_transform("panda_link8") == pytest.approx(target, abs=1e-3)
+        assert not scene.is_state_colliding(state, "panda_arm")
+    clearance = core.Clearance()
+    for solution in task["IK"].solutions:
+        assert "Clearance" in solution.comment
+        assert solution.cost == pytest.approx(clearance(solution)[0])
