@@ -319,3 +319,37 @@ def test_link_motion_and_rotation():
     assert cost == math.inf and comment == "LinkMotionCost: frame 'nowhere' unknown in trajectory"
     cost, comment = core.LinkRotation("nowhere")(_sub(traj))
     assert cost == math.inf and comment == "LinkRotationCost: frame 'nowhere' unknown in trajectory"
+
+
+def test_clearance_on_the_panda():
+    """Clearance: 1 / (d + 1e-5) of the distance to the world, with a comment naming the pair."""
+    from mtc import msgs
+
+    panda = mtc.robots.panda()
+    scene = mtc.PlanningScene(panda)
+    scene.current_state.set_to_default_values("panda_arm", "ready")
+    box = msgs.CollisionObject(id="box", header=msgs.Header(frame_id="world"), operation=msgs.CollisionObject.ADD)
+    box.primitives = [msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.1, 0.1, 0.1])]
+    box.primitive_poses = [msgs.Pose(position=msgs.Point(x=0.6, y=0.0, z=0.3), orientation=msgs.Quaternion(w=1.0))]
+    scene.apply_collision_object(box)
+    sol = _sub(None, start=core.InterfaceState(scene), end=core.InterfaceState(scene))
+    cost, comment = core.Clearance()(sol)
+    d = scene.distance_to_collision()
+    assert 0 < d < 1
+    assert cost == pytest.approx(1.0 / (d + 1e-5))
+    assert comment.startswith(f"Clearance: distance {d:g} between '") and "'box'" in comment
+    cost, comment = core.Clearance(cumulative=True)(sol)
+    assert comment.startswith("Clearance: cumulative distance")
+
+
+def test_solution_to_msg(t):
+    """toMsg(): one SubTrajectory message per leaf in execution order, with costs and comments."""
+    t.add(BackwardMockup([10.0]))
+    t.add(GeneratorMockup([1.0]))
+    t.add(ForwardMockup([100.0]))
+    assert t.plan()
+    msg = t.solutions[0].toMsg()
+    assert [s.info.cost for s in msg.sub_trajectory] == [10.0, 1.0, 100.0]
+    # as MTC: a diff where the end scene derives from the start scene (generator: the same
+    # scene; forward: a diff), else the full end scene (backward: the start derives from the end)
+    assert [s.scene_diff.is_diff for s in msg.sub_trajectory] == [False, True, True]

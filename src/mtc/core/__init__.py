@@ -13,10 +13,12 @@ from mtc.core.container import (
     Alternatives,
     ContainerBase,
     Fallbacks,
+    MergeError,
     Merger,
     ParallelContainerBase,
     SerialContainer,
     WrapperBase,
+    merge_trajectories,
 )
 from mtc.core.cost_terms import (
     Clearance,
@@ -103,6 +105,7 @@ __all__ = [
     "LambdaCostTerm",
     "LinkMotion",
     "LinkRotation",
+    "MergeError",
     "Merger",
     "MonitoringGenerator",
     "MoveItErrorCode",
@@ -134,6 +137,7 @@ __all__ = [
     "UndefinedPropertyError",
     "WrappedSolution",
     "WrapperBase",
+    "merge_trajectories",
     "unsigned_int",
     *_PLANNERS,
 ]

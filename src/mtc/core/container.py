@@ -353,12 +353,20 @@ class ContainerBase(Stage):
             self._setStatus(direction, sol._creator, target, _state_of(direction, sol), status)
 
     def _updateStatePrios(self, direction: int, state: InterfaceState, prio: Priority) -> None:
-        new = _new_tuple(Priority, (state._priority[0], prio[1], prio[2]))
-        if state._priority == new:
-            return
-        state.updatePriority(new)
-        for sol in (state.outgoing if direction == FORWARD else state.incoming):
-            self._updateStatePrios(direction, sol._end if direction == FORWARD else sol._start, prio)
+        """Give ``state`` and the states behind it in ``direction`` the depth and cost of ``prio``."""
+        d, c = prio[1], prio[2]
+        stack = [state]
+        while stack:
+            s = stack.pop()
+            old = s._priority
+            if old[1] == d and old[2] == c:
+                continue
+            s.updatePriority(_new_tuple(Priority, (old[0], d, c)))
+            successors = s.outgoing if direction == FORWARD else s.incoming
+            if successors:
+                # depth-first in successor order, as MTC's recursion
+                for sol in reversed(successors):
+                    stack.append(sol._end if direction == FORWARD else sol._start)
 
     def _copyState(self, direction: int, external: InterfaceState, target: Interface, updated: int) -> None:
         if updated:
@@ -459,16 +467,9 @@ class SerialContainer(ContainerBase):
                 child._runCompute()
 
     def onNewSolution(self, current: SolutionBase) -> None:
-        children = self._children
-        creator = current._creator
-        num_before = 0
-        for c in children:
-            if c is creator:
-                break
-            num_before += 1
         incoming = _collect(BACKWARD, current)
         outgoing = _collect(FORWARD, current)
-        nr = len(children)
+        nr = len(self._children)
         mid = Priority(1, current._cost)
         sorted_solutions: list[SolutionSequence] = []
         for in_trace, in_prio in incoming:
@@ -567,24 +568,32 @@ class SerialContainer(ContainerBase):
 
 def _collect(direction: int, start: SolutionBase) -> list[tuple[list, Priority]]:
     """All partial solution paths from ``start`` in ``direction`` (failures skipped), with summed priority."""
-    results = []
+    results: list[tuple[list, Priority]] = []
+    forward = direction == FORWARD
+    nxt = start._end.outgoing if forward else start._start.incoming
+    if not nxt:
+        results.append(([], _ZERO))
+        return results
     trace: list[SolutionBase] = []
 
-    def traverse(solution, prio):
-        nxt = solution._end.outgoing if direction == FORWARD else solution._start.incoming
-        if not nxt:
-            results.append((list(trace), prio))
-            return
-        for succ in nxt:
-            cost = succ._cost
-            if not (-INF < cost < INF):
+    def traverse(solutions, depth, cost):
+        for succ in solutions:
+            c = succ._cost
+            if not (-INF < c < INF):
                 continue  # skip failures
             trace.append(succ)
-            traverse(succ, prio + _new_tuple(Priority, (0, -1, cost)))
+            following = succ._end.outgoing if forward else succ._start.incoming
+            if following:
+                traverse(following, depth + 1, cost + c)
+            else:
+                results.append((list(trace), _new_tuple(Priority, (0, -(depth + 1), cost + c))))
             trace.pop()
 
-    traverse(start, _new_tuple(Priority, (0, 0, 0.0)))
+    traverse(nxt, 0, 0.0)
     return results
+
+
+_ZERO = _new_tuple(Priority, (0, 0, 0.0))
 
 
 class ParallelContainerBase(ContainerBase):

@@ -167,12 +167,11 @@ def solution_to_msg(solution, introspection=None):
         if leaf.trajectory is not None:
             sub.trajectory = leaf.trajectory.get_robot_trajectory_msg()
         end_scene = leaf.end.scene if leaf.end is not None else None
-        if end_scene is not None:
-            if getattr(end_scene, "parent", None) is (leaf.start.scene if leaf.start is not None else None) and hasattr(
-                end_scene, "get_planning_scene_diff_msg"
-            ):
-                sub.scene_diff = end_scene.get_planning_scene_diff_msg()
-            elif hasattr(end_scene, "get_planning_scene_msg"):
-                sub.scene_diff = end_scene.get_planning_scene_msg()
+        if end_scene is not None and hasattr(end_scene, "get_planning_scene_msg"):
+            # as MTC: a diff if the end scene was derived from the start scene (or is it)
+            start_scene = leaf.start.scene if leaf.start is not None else None
+            sub.scene_diff = end_scene.get_planning_scene_msg()
+            if start_scene is not None and (end_scene is start_scene or getattr(end_scene, "parent", None) is start_scene):
+                sub.scene_diff.is_diff = True
         msg.sub_trajectory.append(sub)
     return msg

@@ -561,7 +561,7 @@ class PropertyMap:
 class TypedPropertyAccess:
     """Mixin: declared properties read and written as attributes (``stage.timeout = 5``).
 
-    The class provides ``_property_map()``. Reading an attribute that is a declared
+    The instance keeps its map in ``self._properties``. Reading an attribute that is a declared
     property returns its value (an undefined one raises :class:`UndefinedPropertyError`);
     writing one type-checks it (``TypeError`` on mismatch). Names starting with ``_`` and
     names defined on the class are never treated as properties.
@@ -570,40 +570,30 @@ class TypedPropertyAccess:
     # property name -> function(value) -> attribute value (e.g. sets shown as sorted lists)
     _attribute_getters: dict = {}
 
-    def _property_map(self) -> PropertyMap:  # pragma: no cover - overridden
-        raise NotImplementedError
-
     def __getattr__(self, name: str):
         # only called when normal lookup failed
-        if name.startswith("_"):
+        if name[0] == "_":
             raise AttributeError(name)
-        try:
-            props = self._property_map()
-        except AttributeError:
-            props = None
-        if props is not None and name in props._props:
-            value = props.get(name)
-            getter = self._attribute_getters.get(name)
-            return getter(value) if getter else value
+        props = self.__dict__.get("_properties")
+        if props is not None:
+            p = props._props.get(name)
+            if p is not None:
+                value = props.get(name)
+                getter = self._attribute_getters.get(name)
+                return getter(value) if getter else value
         raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
 
     def __setattr__(self, name: str, value) -> None:
-        if name[0] != "_" and not hasattr(type(self), name):
-            try:
-                props = self._property_map()
-            except AttributeError:
-                props = None
-            if props is not None:
-                p = props._props.get(name)
-                if p is not None:
-                    if value is None and p._type is not None:
-                        raise TypeError(
-                            f"property '{name}' expects {_type_name(p._type)}, got None"
-                        )
-                    try:
-                        p.setValue(value)
-                    except PropertyError as e:
-                        e.setName(name)
-                        raise
-                    return
+        if name[0] != "_":
+            props = self.__dict__.get("_properties")
+            p = props._props.get(name) if props is not None else None
+            if p is not None and not hasattr(type(self), name):
+                if value is None and p._type is not None:
+                    raise TypeError(f"property '{name}' expects {_type_name(p._type)}, got None")
+                try:
+                    p.setValue(value)
+                except PropertyError as e:
+                    e.setName(name)
+                    raise
+                return
         object.__setattr__(self, name, value)
