@@ -119,8 +119,9 @@ def test_seed_compute_ik(make_task):
     q0 = start.current_state.get_joint_group_positions("panda_arm")
     assert costs[0] == pytest.approx(np.abs(q[0] - q0).sum())
     assert task.numSolutions() == 4
-    # MTC's timeout default is the group's IK timeout
-    assert ik.properties.get("timeout") == mtc.robots.panda().get_joint_model_group("panda_arm").default_ik_timeout
+    # timeout default: the group's IK timeout per allowed descent (4 solutions x 20 descents)
+    ik_timeout = mtc.robots.panda().get_joint_model_group("panda_arm").default_ik_timeout
+    assert ik.properties.get("timeout") == pytest.approx(ik_timeout * 80)
 
 
 def test_eef_derives_group_and_link(make_task):

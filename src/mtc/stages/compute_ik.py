@@ -19,8 +19,12 @@ ComputeIK spawns its own solutions (``SubTrajectory`` without trajectory), not w
 
 Determinism (beyond MTC): the random IK seeds come from a generator seeded with the ``seed``
 property and the number of child solutions handled since ``reset()``, and the search makes
-at most ``max_ik_attempts`` descents per wanted solution. When that budget, not ``timeout``,
-ends the search (the usual case), the same task gives the same IK solutions on any machine.
+at most ``max_ik_attempts`` descents per wanted solution, none of them cut short by the clock.
+MTC's default ``timeout`` is the group's IK timeout, the budget of one IK call; here every
+descent is such a call, so the default ``timeout`` is the group's IK timeout times the number
+of descents allowed. The attempt budget then ends the search, not the clock, and the same
+task gives the same IK solutions on any machine. A ``timeout`` set by the user still bounds
+the search (and may end it earlier on a slow machine).
 """
 
 from __future__ import annotations
@@ -124,7 +128,7 @@ class ComputeIK(WrapperBase):
         ik_frame: ``PoseStamped`` of the robot frame to put at the target (default: the eef's
             parent link or the group's tip); a link, attached object or ``"object/subframe"``.
         target_pose: ``PoseStamped`` to reach (read from the child's states by default).
-        timeout: Time limit per target [s] (default: the group's IK timeout).
+        timeout: Time limit per target [s] (default: the group's IK timeout per allowed descent).
         seed: Seed of the random IK restarts (default 0).
         max_ik_attempts: IK descents per wanted solution (default 20).
     """
@@ -254,8 +258,12 @@ class ComputeIK(WrapperBase):
         if jmg is None:
             self._fail(s, "Neither eef nor group are well defined")
             return
-        # 2. MTC's timeout default: the group's IK timeout
-        p.property("timeout").setDefaultValue(float(jmg.default_ik_timeout))
+        # 2. timeout default: MTC's is the group's IK timeout (the budget of one IK call); here
+        # each descent is such a call, so the default allows the group's IK timeout per descent
+        # and the attempt budget, not the clock, ends the search (see the module docstring)
+        max_solutions = p.get("max_ik_solutions")
+        max_attempts = max(1, p.get("max_ik_attempts")) * max(1, max_solutions)
+        p.property("timeout").setDefaultValue(float(jmg.default_ik_timeout) * max_attempts)
 
         # 3. target pose in the planning frame
         target_msg = msgs.from_dict(msgs.PoseStamped, msgs.to_dict(p.get("target_pose")))
@@ -326,9 +334,7 @@ class ComputeIK(WrapperBase):
             constraint_set = KinematicConstraintSet(model, constraints)
 
         # 7. IK: the start state first, then random seeds; every distinct candidate is spawned
-        max_solutions = p.get("max_ik_solutions")
         min_distance = p.get("min_solution_distance")
-        max_attempts = max(1, p.get("max_ik_attempts")) * max(1, max_solutions)
         if not ignore_collisions:
             # build the scene's collision set-up now (the candidates' scenes share it), so its
             # one-time cost is not taken from the IK time budget
