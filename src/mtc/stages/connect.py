@@ -113,10 +113,6 @@ class Connect(Connecting):
         """Set the path constraints."""
         self.properties.set("path_constraints", constraints)
 
-    def reset(self) -> None:
-        super().reset()
-        self._merging = False
-
     def init(self, robot_model) -> None:
         super().init(robot_model)
         errors = InitStageError()
