@@ -40,7 +40,7 @@ def _task(make_task, g, introspection=True):
 def test_defaults():
     """Name, angle_delta 0.1, rotation_axis z, everything else undefined; typed attributes."""
     g = stages.GenerateGraspPose()
-    assert g.name == "generate grasp pose"
+    assert g.name == "Generate Grasp Pose"  # the Python binding's default (C++: "generate grasp pose")
     assert g.angle_delta == 0.1
     assert g.rotation_axis == msgs.Vector3(z=1.0)
     for name in ("eef", "object", "pregrasp", "grasp"):

@@ -69,9 +69,9 @@ def _generator(**props):
 
 
 def test_defaults():
-    """Name 'place pose', allow_z_flip False, object/pose undefined, eef attribute settable."""
+    """Name "Generate Place Pose" (the Python binding's), allow_z_flip False, object/pose undefined, eef settable."""
     g = stages.GeneratePlacePose()
-    assert g.name == "place pose"
+    assert g.name == "Generate Place Pose"
     assert g.allow_z_flip is False
     assert g.properties.get("object", None) is None
     g.eef = "hand"

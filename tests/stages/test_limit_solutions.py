@@ -86,3 +86,38 @@ def test_reset_allows_planning_again(make_task):
     task.reset()
     assert task.plan()
     assert task.numSolutions() == 1
+
+
+class CountdownGenerator(core.Generator):
+    """The seed's custom generator (context7 llms.txt): emits max_calls scenes, spawn(..., cost=...)."""
+
+    max_calls = 3
+
+    def __init__(self, name="Countdown"):
+        core.Generator.__init__(self, name)
+        self.reset()
+
+    def init(self, robot_model):
+        self.ps = PlanningScene(robot_model)
+
+    def reset(self):
+        core.Generator.reset(self)
+        self.remaining = self.max_calls
+
+    def canCompute(self):
+        return self.remaining > 0
+
+    def compute(self):
+        self.remaining -= 1
+        self.spawn(core.InterfaceState(self.ps), cost=float(self.remaining))
+
+
+def test_limits_the_seed_countdown_generator(make_task):
+    """The seed's CountdownGenerator under LimitSolutions(2): its first two solutions (costs 2, 1)."""
+    gen = CountdownGenerator("gen")
+    limit = stages.LimitSolutions("limit", gen)
+    limit.max_solutions = 2
+    task = make_task(limit)
+    assert task.plan()
+    assert [s.cost for s in task.solutions] == [1.0, 2.0]
+    assert gen.remaining == 1  # never computed after the limit

@@ -147,7 +147,7 @@ class GenerateGraspPose(GeneratePose):
 
     _requires_pose = False  # the poses come from the object frame
 
-    def __init__(self, name: str = "generate grasp pose"):
+    def __init__(self, name: str = "Generate Grasp Pose"):
         super().__init__(name)
         p = self.properties
         p.declare("eef", None, "name of end-effector", type=str)

@@ -92,7 +92,7 @@ class GeneratePlacePose(GeneratePose):
     frame). Cost: always 0.
     """
 
-    def __init__(self, name: str = "place pose"):
+    def __init__(self, name: str = "Generate Place Pose"):
         super().__init__(name)
         p = self.properties
         p.declare("object", None, "name of the object to place", type=str)
