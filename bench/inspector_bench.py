@@ -56,7 +56,7 @@ class TrajectoryPropagator(core.PropagatingForward):
         self.sendForward(from_state, core.InterfaceState(scene), solution)
 
 
-def run(solutions: int = 1000, failures: int = 5000, waypoints: int = 10) -> dict:
+def run(solutions: int = 1000, failures: int = 5000, waypoints: int = 10, repeat: int = 3) -> dict:
     """Plan the task, then time save and load; return the figures."""
     if failures % solutions:
         raise ValueError("failures must be a multiple of solutions (every k-th propagation succeeds)")
@@ -72,13 +72,18 @@ def run(solutions: int = 1000, failures: int = 5000, waypoints: int = 10) -> dic
 
     with tempfile.TemporaryDirectory() as tmp:
         path = os.path.join(tmp, "task.json")
-        start = time.perf_counter()
-        introspection_io.save(task, path)
-        save_s = time.perf_counter() - start
-        size = os.path.getsize(path)
-        start = time.perf_counter()
-        data = introspection_io.load(path)
-        load_s = time.perf_counter() - start
+        # best of a few runs: other processes on a shared machine inflate single timings
+        save_s = save_cpu = load_s = load_cpu = float("inf")
+        for _ in range(repeat):
+            wall, cpu = time.perf_counter(), time.process_time()
+            introspection_io.save(task, path)
+            save_s = min(save_s, time.perf_counter() - wall)
+            save_cpu = min(save_cpu, time.process_time() - cpu)
+            size = os.path.getsize(path)
+            wall, cpu = time.perf_counter(), time.process_time()
+            data = introspection_io.load(path)
+            load_s = min(load_s, time.perf_counter() - wall)
+            load_cpu = min(load_cpu, time.process_time() - cpu)
     stored = len(data.solutions)
     return {
         "solutions": solutions,
@@ -89,7 +94,9 @@ def run(solutions: int = 1000, failures: int = 5000, waypoints: int = 10) -> dic
         "environments": len(data.environments),
         "plan_s": plan_s,
         "save_s": save_s,
+        "save_cpu_s": save_cpu,
         "load_s": load_s,
+        "load_cpu_s": load_cpu,
         "file_mb": size / 1e6,
     }
 
@@ -99,12 +106,15 @@ def main(argv=None) -> int:
     parser.add_argument("--solutions", type=int, default=1000)
     parser.add_argument("--failures", type=int, default=5000)
     parser.add_argument("--waypoints", type=int, default=10)
+    parser.add_argument("--repeat", type=int, default=3, help="best of this many save/load runs")
     args = parser.parse_args(argv)
-    r = run(args.solutions, args.failures, args.waypoints)
+    r = run(args.solutions, args.failures, args.waypoints, args.repeat)
     for key, value in r.items():
         print(f"{key:>24}: {value:.3f}" if isinstance(value, float) else f"{key:>24}: {value}")
     ok = r["save_s"] < 1.0 and r["load_s"] < 1.0
-    print("target (save and load under 1 s each):", "met" if ok else "MISSED")
+    print("target (save and load under 1 s each, wall time):", "met" if ok else "MISSED")
+    if hasattr(os, "getloadavg"):
+        print(f"{'load average':>24}: {os.getloadavg()[0]:.2f} (on {os.cpu_count()} cores)")
     return 0 if ok else 1
 
 

@@ -16,7 +16,7 @@ TaskStatistics and Solution messages in one document, semantics §1.11, §8.2):
   when empty). The trajectories' numbers live in ``arrays``: one base64 string of
   little-endian doubles; each array is referenced as ``[offset, *shape]``.
 * ``scenes``: the planning scenes the solutions start and end in. A scene is its robot's
-  joint positions plus an index into ``environments`` (world objects, attached objects and
+  joint positions (in ``arrays``) plus an index into ``environments`` (world objects, attached objects and
   allowed collisions), which scenes share while those do not change; ``robots`` holds each
   robot's joint names once. :meth:`IntrospectionData.scene_msg` rebuilds the full
   ``msgs.PlanningScene``.
@@ -87,7 +87,8 @@ def _plain(value: Any) -> Any:
 class _Scenes:
     """Scene table of a snapshot: robot positions per scene, environments shared."""
 
-    def __init__(self):
+    def __init__(self, blob: "_Blob"):
+        self.blob = blob
         self.scenes: list[dict] = []
         self.environments: list[dict] = []
         self.robots: dict[str, dict] = {}
@@ -106,7 +107,7 @@ class _Scenes:
             self.robots[model.name] = {"joint_names": list(model.variable_names), "frame": scene.planning_frame}
         entry = {
             "robot": model.name,
-            "positions": scene.current_state.positions.tolist(),
+            "positions": self.blob.add(scene.current_state.positions),
             "env": self._environment(scene),
         }
         i = self._by_scene[key] = len(self.scenes)
@@ -191,13 +192,15 @@ def snapshot(task, introspection=None, contents: bool = True) -> dict[str, Any]:
         A dict as described in the module docstring.
     """
     if introspection is None:
-        introspection = task.introspection()
+        # the task's own introspection (ids shared with toMsg); refreshing it would walk
+        # every solution once more, and ids are assigned on first use anyway
+        introspection = getattr(task, "_introspection_obj", None) or task.introspection()
     stage_id = introspection.stageId
     solution_id = introspection.solutionId
     stages: list[dict] = []
     table: dict[int, dict] = {}
-    scenes = _Scenes()
     blob = _Blob()
+    scenes = _Scenes(blob)
     pending: list[SolutionBase] = []
 
     def info(s: SolutionBase) -> dict:
@@ -472,6 +475,12 @@ class IntrospectionData:
             "velocities": None if vel is None else self._array(vel, where + " velocities"),
         }
 
+    def scene_positions(self, index: int) -> np.ndarray:
+        """The robot's joint positions in a stored scene (order: ``robots[robot]["joint_names"]``)."""
+        if not 0 <= index < len(self.scenes):
+            raise IndexError(f"scene index {index} out of range ({len(self.scenes)} scenes)")
+        return self._array(self.scenes[index]["positions"], f"scene {index} positions")
+
     def scene_msg(self, index: int) -> msgs.PlanningScene:
         """A stored scene as a full ``msgs.PlanningScene``."""
         if not 0 <= index < len(self.scenes):
@@ -486,7 +495,7 @@ class IntrospectionData:
                 joint_state=msgs.JointState(
                     header=msgs.Header(frame_id=robot.get("frame", "")),
                     name=list(robot.get("joint_names", [])),
-                    position=[float(v) for v in sc["positions"]],
+                    position=self.scene_positions(index).tolist(),
                 ),
                 attached_collision_objects=[msgs.from_dict(msgs.AttachedCollisionObject, a) for a in env["attached"]],
             ),
