@@ -153,7 +153,8 @@ def test_ik_frame_on_attached_object_subframe(make_task):
         primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.02, 0.02, 0.1])],
         primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
         pose=msgs.Pose(position=msgs.Point(z=0.15), orientation=msgs.Quaternion(w=1.0)),
-        subframe_names=["tip"], subframe_poses=[msgs.Pose(position=msgs.Point(z=0.05), orientation=msgs.Quaternion(w=1.0))],
+        subframe_names=["tip"],
+        subframe_poses=[msgs.Pose(position=msgs.Point(z=0.05), orientation=msgs.Quaternion(w=1.0))],
         operation=msgs.CollisionObject.ADD))
     scene.attach_object("tool", "panda_hand", ["panda_leftfinger", "panda_rightfinger"])
     target = _pose("world", x=0.4, y=-0.1, z=0.3, q=(1.0, 0.0, 0.0, 0.0))

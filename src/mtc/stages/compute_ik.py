@@ -46,7 +46,7 @@ from mtc.stages._common import (
     pose_stamped_from_args,
     resolve_frame,
 )
-from mtc.stages.generate_pose import SolutionQueue, frame_marker, pose_stamped
+from mtc.stages.generate_pose import SolutionQueue, frame_marker
 
 __all__ = ["ComputeIK"]
 
@@ -97,7 +97,9 @@ def eef_collisions(scene, link: str, link_target: np.ndarray) -> list[tuple[str,
     for name in world:
         obj = probe.get_world_object(name)
         probe.apply_collision_object(
-            msgs.CollisionObject(id=name, operation=msgs.CollisionObject.MOVE, pose=msgs.matrix_to_pose(back @ obj.pose))
+            msgs.CollisionObject(
+                id=name, operation=msgs.CollisionObject.MOVE, pose=msgs.matrix_to_pose(back @ obj.pose)
+            )
         )
     moved = descendant_links(scene.robot_model, link)
     moved |= {name for name in scene.attached_object_names if scene.get_attached_object(name).link in moved}
@@ -207,22 +209,22 @@ class ComputeIK(WrapperBase):
         p = self.properties
         eef = p.get("eef", None)
         group = p.get("group", None)
-        msgs_ = []
+        problems = []
         eef_model = None
         if eef is not None:
             if eef in robot_model.end_effectors:
                 eef_model = robot_model.get_end_effector(eef)
             else:
-                msgs_.append(f"Unknown end effector: {eef}")
+                problems.append(f"Unknown end effector: {eef}")
         jmg = None
         if group is not None:
             if robot_model.has_joint_model_group(group):
                 jmg = robot_model.get_joint_model_group(group)
             else:
-                msgs_.append(f"Unknown group: {group}")
+                problems.append(f"Unknown group: {group}")
         elif eef_model is not None:
             jmg = robot_model.get_joint_model_group(eef_model.parent_group)
-        return eef_model, jmg, "; ".join(msgs_)
+        return eef_model, jmg, "; ".join(problems)
 
     # --- computing ----------------------------------------------------------------------
     def onNewSolution(self, solution: SolutionBase) -> None:
@@ -285,7 +287,9 @@ class ComputeIK(WrapperBase):
             else:
                 self._fail(s, "Failed to derive IK target link")
                 return
-            ik_frame = msgs.PoseStamped(header=msgs.Header(frame_id=tip), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
+            ik_frame = msgs.PoseStamped(
+                header=msgs.Header(frame_id=tip), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))
+            )
         try:
             link, frame_offset = resolve_frame(scene, ik_frame.header.frame_id)
         except FrameError:

@@ -69,7 +69,9 @@ class PickPlaceBase(SerialContainer):
         self._grasp = grasp_stage
         if grasp_stage is not None:
             if not isinstance(grasp_stage, Stage):
-                raise TypeError(f"{type(self).__name__}: the grasp stage must be a Stage, got {type(grasp_stage).__name__}")
+                raise TypeError(
+                    f"{type(self).__name__}: the grasp stage must be a Stage, got {type(grasp_stage).__name__}"
+                )
             grasp_stage.properties.configureInitFrom(Stage.PARENT, ["eef", "object"])
             self.insert(grasp_stage, position)
 
