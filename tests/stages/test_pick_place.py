@@ -351,3 +351,15 @@ def test_unreachable_place_is_explained():
     out = io.StringIO()
     task.explainFailure(out)
     assert "compute ik (0/" in out.getvalue() and "no IK found" in out.getvalue()
+
+
+def test_lift_by_joint_deltas_plans():
+    """setLiftMotion({joint: delta}) (Appendix A #7 fix): the lift moves panda_joint2 by -0.2 rad."""
+    task = _seed_pick_place_task()
+    task["Pick"].setLiftMotion({"panda_joint2": -0.2})
+    assert task.plan(max_solutions=1)
+    (lift,) = [leaf for leaf in _leaves(task.solutions[0]) if leaf.creator.name == "lift object"]
+    q0 = lift.start.scene.current_state.joint_positions
+    q1 = lift.end.scene.current_state.joint_positions
+    assert q1["panda_joint2"] - q0["panda_joint2"] == pytest.approx(-0.2, abs=1e-6)
+    assert lift.end.scene.attached_object_names == ["box"]
