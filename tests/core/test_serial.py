@@ -6,8 +6,6 @@ fast and the exact implementation of Connecting's pending pairs agree.
 
 from __future__ import annotations
 
-import random
-
 import pytest
 from mockups import (
     INF,
@@ -20,11 +18,9 @@ from mockups import (
     add,
     costs,
     make_task,
-    new_scene,
 )
 
 from mtc import core
-from mtc.core.stage import _PendingPairs
 
 # every scheduler test runs with both implementations of the pending pairs
 pytestmark = pytest.mark.usefixtures("pending_mode")

@@ -20,7 +20,7 @@ from enum import IntEnum
 
 import numpy as np
 
-from mtc.core.storage import SolutionSequence, SubTrajectory, WrappedSolution
+from mtc.core.storage import SolutionSequence, WrappedSolution
 
 __all__ = [
     "Clearance",
@@ -204,7 +204,8 @@ class DistanceToReference(TrajectoryCostTerm):
             self.reference = {str(n): float(v) for n, v in zip(js.name, js.position)}
         else:
             raise TypeError(
-                f"DistanceToReference expects a dict joint -> value or a RobotState message, got {type(reference).__name__}"
+                "DistanceToReference expects a dict joint -> value or a RobotState message, "
+                f"got {type(reference).__name__}"
             )
         self.mode = TrajectoryCostTerm.Mode(mode)
         self.weights = {str(k): float(v) for k, v in (weights or {}).items()}

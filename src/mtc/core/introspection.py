@@ -171,7 +171,8 @@ def solution_to_msg(solution, introspection=None):
             # as MTC: a diff if the end scene was derived from the start scene (or is it)
             start_scene = leaf.start.scene if leaf.start is not None else None
             sub.scene_diff = end_scene.get_planning_scene_msg()
-            if start_scene is not None and (end_scene is start_scene or getattr(end_scene, "parent", None) is start_scene):
+            derived = end_scene is start_scene or getattr(end_scene, "parent", None) is start_scene
+            if start_scene is not None and derived:
                 sub.scene_diff.is_diff = True
         msg.sub_trajectory.append(sub)
     return msg

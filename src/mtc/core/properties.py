@@ -297,7 +297,9 @@ class Property:
         """Whether the property is configured to initialize from ``source``."""
         return bool(self._source_flags & int(source))
 
-    def configureInitFrom(self, source: int, initializer: str | Callable[["PropertyMap"], Any] | None = None) -> "Property":
+    def configureInitFrom(
+        self, source: int, initializer: str | Callable[["PropertyMap"], Any] | None = None
+    ) -> "Property":
         """Configure initialization from ``source`` (PARENT, INTERFACE or both OR-ed).
 
         Args:

@@ -35,7 +35,6 @@ from mtc.core.properties import (
     PropertyInitializerSource,
     PropertyMap,
     TypedPropertyAccess,
-    UndeclaredPropertyError,
 )
 from mtc.core.storage import (
     Interface,
@@ -1467,7 +1466,9 @@ class Connecting(ComputeBase):
         """Connect ``from_state`` to ``to_state`` (call :meth:`connect` with the solution)."""
         raise NotImplementedError(f"{type(self).__name__} must implement compute(from_state, to_state)")
 
-    def connect(self, from_state: InterfaceState, to_state: InterfaceState, solution, cost: float | None = None) -> None:
+    def connect(
+        self, from_state: InterfaceState, to_state: InterfaceState, solution, cost: float | None = None
+    ) -> None:
         """Publish a solution connecting two states (optionally with this cost)."""
         sol = _as_solution(solution, "connect()")
         if cost is not None:

@@ -17,7 +17,7 @@ from collections.abc import Callable
 from mtc.core.container import ContainerBase, SerialContainer, WrapperBase
 from mtc.core.properties import PropertyMap
 from mtc.core.stage import GENERATE, PreemptStageError, Stage
-from mtc.core.storage import Interface, SolutionBase, Solutions
+from mtc.core.storage import SolutionBase, Solutions
 
 __all__ = ["MoveItErrorCode", "Task"]
 
