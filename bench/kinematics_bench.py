@@ -15,6 +15,9 @@ Measures:
 
 ``bench/motion_bench.py`` imports these functions and includes their results.
 
+Times are wall-clock (``*_ms``) and this process's CPU time (``median_cpu_ms``), which other
+processes on a busy machine do not inflate.
+
 Run: ``python bench/kinematics_bench.py [--ik N] [--totg N] [--cartesian N] [--seed S]``
 """
 
@@ -78,20 +81,38 @@ def _ready(model) -> RobotState:
     return state
 
 
-def _stats(times_s: list[float]) -> dict:
-    ms = np.asarray(times_s) * 1e3
-    return {
-        "median_ms": float(np.median(ms)),
-        "p90_ms": float(np.percentile(ms, 90)),
-        "max_ms": float(ms.max()),
-    }
+class _Clock:
+    """Wall-clock and CPU time of a block (CPU time: this process only, so other processes on
+    a busy machine do not count)."""
+
+    def __init__(self):
+        self.wall: list[float] = []
+        self.cpu: list[float] = []
+
+    def __enter__(self):
+        self._w, self._c = time.perf_counter(), time.process_time()
+        return self
+
+    def __exit__(self, *exc):
+        self.wall.append(time.perf_counter() - self._w)
+        self.cpu.append(time.process_time() - self._c)
+
+    def stats(self) -> dict:
+        wall = np.asarray(self.wall) * 1e3
+        cpu = np.asarray(self.cpu) * 1e3
+        return {
+            "median_ms": float(np.median(wall)),
+            "p90_ms": float(np.percentile(wall, 90)),
+            "max_ms": float(wall.max()),
+            "median_cpu_ms": float(np.median(cpu)),
+        }
 
 
 def bench_ik(n: int = 500, seed: int = 0) -> dict:
     """IK success and speed on reachable poses (FK of random valid states).
 
     Returns:
-        ``{"n", "from_ready": {"success_rate", "median_ms", "p90_ms", "max_ms"},
+        ``{"n", "from_ready": {"success_rate", "median_ms", "p90_ms", "max_ms", "median_cpu_ms"},
         "from_random": {...}, "max_position_error_m", "max_rotation_error_rad"}``.
     """
     model = mtc.robots.panda()
@@ -102,18 +123,17 @@ def bench_ik(n: int = 500, seed: int = 0) -> dict:
     out: dict = {"n": n}
     worst_p, worst_r = 0.0, 0.0
     for label, seeds in (("from_ready", [_ready(model)] * n), ("from_random", random_seeds)):
-        ok, times = 0, []
+        ok, clock = 0, _Clock()
         for i, (target, seed_state) in enumerate(zip(targets, seeds)):
-            t0 = time.perf_counter()
-            solutions = ik.solve_ik(seed_state, GROUP, target, tip=TIP, rng=seed * 100003 + i)
-            times.append(time.perf_counter() - t0)
+            with clock:
+                solutions = ik.solve_ik(seed_state, GROUP, target, tip=TIP, rng=seed * 100003 + i)
             if solutions:
                 ok += 1
                 reached = solutions[0].get_global_link_transform(TIP)
                 worst_p = max(worst_p, float(np.linalg.norm(reached[:3, 3] - target[:3, 3])))
                 c = (np.trace(reached[:3, :3].T @ target[:3, :3]) - 1) / 2
                 worst_r = max(worst_r, float(np.arccos(np.clip(c, -1, 1))))
-        out[label] = {"success_rate": ok / n, **_stats(times)}
+        out[label] = {"success_rate": ok / n, **clock.stats()}
     out["max_position_error_m"] = worst_p
     out["max_rotation_error_rad"] = worst_r
     return out
@@ -135,7 +155,7 @@ def bench_time_parameterization(n: int = 200, waypoints: int = 50, seed: int = 0
     """TOTG on curved paths of ``waypoints`` waypoints.
 
     Returns:
-        ``{"n", "waypoints", "median_ms", "p90_ms", "max_ms", "max_velocity_ratio",
+        ``{"n", "waypoints", "median_ms", "p90_ms", "max_ms", "median_cpu_ms", "max_velocity_ratio",
         "max_acceleration_ratio", "median_duration_s"}`` (ratios: largest |value| / scaled limit
         at any waypoint).
     """
@@ -145,18 +165,18 @@ def bench_time_parameterization(n: int = 200, waypoints: int = 50, seed: int = 0
     vmax = model.velocity_limits[idx] * velocity_scaling
     amax = model.acceleration_limits[idx] * acceleration_scaling
     paths = [_curved_path(model, rng, waypoints) for _ in range(n)]
-    times, vr, ar, durations = [], 0.0, 0.0, []
+    time_parameterize(paths[0].copy(), velocity_scaling, acceleration_scaling)  # warm-up (imports, caches)
+    clock, vr, ar, durations = _Clock(), 0.0, 0.0, []
     for traj in paths:
-        t0 = time.perf_counter()
-        time_parameterize(traj, velocity_scaling, acceleration_scaling)
-        times.append(time.perf_counter() - t0)
+        with clock:
+            time_parameterize(traj, velocity_scaling, acceleration_scaling)
         vr = max(vr, float(np.max(np.abs(traj.velocities) / vmax)))
         ar = max(ar, float(np.max(np.abs(traj.accelerations) / amax)))
         durations.append(traj.duration)
     return {
         "n": n,
         "waypoints": waypoints,
-        **_stats(times),
+        **clock.stats(),
         "max_velocity_ratio": vr,
         "max_acceleration_ratio": ar,
         "median_duration_s": float(np.median(durations)),
@@ -167,25 +187,24 @@ def bench_cartesian_path(n: int = 50, seed: int = 0, length: float = 0.15) -> di
     """Straight lines of ``length`` [m] in random directions from random dexterous valid states.
 
     Returns:
-        ``{"n", "full_rate", "median_fraction", "median_ms", "p90_ms", "max_ms"}``.
+        ``{"n", "full_rate", "median_fraction", "median_ms", "p90_ms", "max_ms", "median_cpu_ms"}``.
     """
     model = mtc.robots.panda()
     rng = np.random.default_rng(seed)
     planner = CartesianPath()
-    full, fractions, times = 0, [], []
+    full, fractions, clock = 0, [], _Clock()
     for state in _dexterous_states(model, n, rng):
         scene = PlanningScene(model)
         scene.current_state = state
         direction = rng.normal(size=3)
         target = state.get_global_link_transform(TIP)
         target[:3, 3] += length * direction / np.linalg.norm(direction)
-        t0 = time.perf_counter()
-        result, traj = planner.plan_to_pose(scene, TIP, np.eye(4), target, GROUP, 5.0)
-        times.append(time.perf_counter() - t0)
+        with clock:
+            result, traj = planner.plan_to_pose(scene, TIP, np.eye(4), target, GROUP, 5.0)
         fraction = float(result.message.rsplit(" ", 1)[1])
         fractions.append(fraction)
         full += fraction == 1.0
-    return {"n": n, "full_rate": full / n, "median_fraction": float(np.median(fractions)), **_stats(times)}
+    return {"n": n, "full_rate": full / n, "median_fraction": float(np.median(fractions)), **clock.stats()}
 
 
 def _row(name: str, d: dict, keys: list[str]) -> str:
@@ -207,18 +226,18 @@ def main() -> None:
     ik_result = bench_ik(args.ik, args.seed)
     tp = bench_time_parameterization(args.totg, seed=args.seed)
     cp = bench_cartesian_path(args.cartesian, seed=args.seed)
-    keys = ["success_rate", "median_ms", "p90_ms", "max_ms"]
+    keys = ["success_rate", "median_ms", "median_cpu_ms", "p90_ms", "max_ms"]
     print(f"| {'IK (panda_arm, panda_link8)':<28} | " + " | ".join(f"{k:>9}" for k in keys) + " |")
     print(_row(f"from ready (n={args.ik})", ik_result["from_ready"], keys))
     print(_row(f"from random (n={args.ik})", ik_result["from_random"], keys))
     print(f"largest pose error of a solution: {ik_result['max_position_error_m']:.2e} m, "
           f"{ik_result['max_rotation_error_rad']:.2e} rad")
     print()
-    keys = ["median_ms", "p90_ms", "max_ms", "max_velocity_ratio", "max_acceleration_ratio"]
+    keys = ["median_ms", "median_cpu_ms", "p90_ms", "max_ms", "max_velocity_ratio", "max_acceleration_ratio"]
     print(f"| {'TOTG (50 waypoints, 0.5/0.5)':<28} | " + " | ".join(f"{k:>9}" for k in keys) + " |")
     print(_row(f"n={args.totg}", tp, keys))
     print()
-    keys = ["full_rate", "median_fraction", "median_ms", "p90_ms", "max_ms"]
+    keys = ["full_rate", "median_fraction", "median_ms", "median_cpu_ms", "p90_ms", "max_ms"]
     print(f"| {'CartesianPath (15 cm lines)':<28} | " + " | ".join(f"{k:>9}" for k in keys) + " |")
     print(_row(f"n={args.cartesian}", cp, keys))
 

@@ -135,7 +135,8 @@ class IKSolver:
                 f"(variables: {', '.join(self.group.variable_names)})"
             )
         self._mimic_cols = follower_cols
-        self._mimic = bool(robot_model.mimic_followers)
+        # followers only need updating when the group moves one of their masters
+        self._mimic = any(master in idx for _f, master, _m, _o in robot_model.mimic_followers)
 
     # ------------------------------------------------------------------ kinematics
     def forward(self, q: np.ndarray) -> pin.SE3:
@@ -275,7 +276,9 @@ class IKSolver:
                 q[idx] = self.random_positions(gen)
                 self.model.enforce_mimic(q)
             attempt += 1
-            if self.descend(q, target, tolerance, MAX_ITERATIONS, deadline):
+            # the attempt from the seed always runs in full (at most MAX_ITERATIONS), so that even
+            # a tiny time budget gets a real answer for a nearby pose
+            if self.descend(q, target, tolerance, MAX_ITERATIONS, math.inf if attempt == 1 else deadline):
                 distinct = all(self.group_distance(q, s) >= min_distance for s in solutions)
                 if distinct and (is_valid is None or is_valid(q)):
                     solutions.append(q)
