@@ -203,7 +203,7 @@ def test_flatten_deep_nesting_has_no_recursion_limit():
 
 
 def test_execute_mockup_task_sets_toy_scene():
-    task = mockups.make_task()
+    task = mockups.make_task()  # resets the mockup names (GEN1, FWD1, ...)
     task.add(mockups.GeneratorMockup([1.0]))
     inner = core.SerialContainer("inner")
     inner.add(mockups.ForwardMockup([2.0]))

@@ -76,6 +76,7 @@ def failing_task():
             self.n += 1
             self.sendForward(from_state, core.InterfaceState(from_state.scene.diff()), sol)
 
+    mockups.resetMockupIds()  # the generator is GEN1 whatever ran before
     task = core.Task()
     task.setRobotModel(mockups.toy_model())
     task.add(mockups.GeneratorMockup([0.0, 1.0, 2.0, 3.0, 4.0, 5.0]))
