@@ -146,3 +146,18 @@ def test_core_reexports_the_planners():
     assert isinstance(pilz, PipelinePlanner)
     assert core.CartesianPrecision().translational == 0.001
     assert core.MultiPlanner and core.JointInterpolationPlanner and core.CartesianPath and core.PlannerInterface
+
+
+def test_pilz_honours_the_cartesian_speed_limit(ready_scene):
+    """With max_cartesian_speed, a Pilz motion is re-timed so the link stays under the limit."""
+    target = ready_scene.current_state.get_global_link_transform("panda_link8")
+    target[:3, 3] += [0.0, 0.3, 0.0]
+    planner = PipelinePlanner("pilz_industrial_motion_planner")
+    planner.planner = "LIN"
+    planner.max_cartesian_speed = 0.05
+    planner.cartesian_speed_limited_link = "panda_link8"
+    result, traj = planner.plan_to_pose(ready_scene, "panda_link8", np.eye(4), target, "panda_arm", 1.0)
+    assert result
+    P = np.array([w.get_global_link_transform("panda_link8")[:3, 3] for w in traj])
+    speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(traj.times)
+    assert 0.045 < speed.max() <= 0.05 * 1.02

@@ -89,10 +89,10 @@ def ik_frame_link(scene: PlanningScene, ik_frame: msgs.PoseStamped | None, jmg: 
     frame = ik_frame.header.frame_id
     if not state.knows_frame_transform(frame):
         return None, None, f"ik_frame specified in unknown frame '{frame}'"
-    if frame in model._frame_ids:
+    if model.has_link_model(frame):
         link = frame
     else:
-        attached = state._attached_frames(frame) if state._attached_frames is not None else None
+        attached = ik.attached_frame(state, frame)
         if attached is None:
             return None, None, "ik_frame doesn't specify a link frame"
         link = attached[0]

@@ -36,7 +36,7 @@ from mtc.scene.robot_state import RobotState, as_rng
 
 log = logging.getLogger(__name__)
 
-__all__ = ["IKSolver", "get_ik_solver", "resolve_tip", "solve_ik", "set_from_ik", "as_pose_matrix"]
+__all__ = ["IKSolver", "attached_frame", "get_ik_solver", "resolve_tip", "solve_ik", "set_from_ik", "as_pose_matrix"]
 
 #: Convergence threshold on the norm of the 6D pose error ([m] and [rad] mixed).
 DEFAULT_TOLERANCE = 1e-6
@@ -305,6 +305,14 @@ def get_ik_solver(robot_model: RobotModel, group: str, link: str) -> IKSolver:
     return solver
 
 
+def attached_frame(state: RobotState, frame: str) -> tuple[str, np.ndarray] | None:
+    """``(link, 4x4 offset)`` of an attached object or its subframe (``"object/subframe"``) in
+    a state taken from a planning scene, or None."""
+    # RobotState has no public query for this yet: it keeps the scene's resolver privately
+    resolver = state._attached_frames
+    return None if resolver is None else resolver(frame)
+
+
 def resolve_tip(state: RobotState, group: str, tip: str | None) -> tuple[str, np.ndarray]:
     """The link to solve for and the fixed offset of ``tip`` relative to it.
 
@@ -326,9 +334,9 @@ def resolve_tip(state: RobotState, group: str, tip: str | None) -> tuple[str, np
                 "pass tip= with a link name"
             )
         return tips[0], np.eye(4)
-    if tip in model._frame_ids:
+    if model.has_link_model(tip):
         return tip, np.eye(4)
-    attached = state._attached_frames(tip) if state._attached_frames is not None else None
+    attached = attached_frame(state, tip)
     if attached is not None:
         link, offset = attached
         return link, np.asarray(offset, dtype=float)
@@ -378,12 +386,9 @@ def solve_ik(
     total = tip_offset if offset is None else tip_offset @ np.asarray(offset, dtype=float)
     link_target = target @ _inverse(total)
     solver = get_ik_solver(state.robot_model, group, link)
-    model = state.robot_model
-    attached = state._attached_frames
-
     def make_state(q: np.ndarray) -> RobotState:
-        s = RobotState(model, q)
-        s._attached_frames = attached
+        s = state.copy()  # keeps the frames of attached objects
+        s.positions = q
         return s
 
     check = None if is_valid is None else (lambda q: bool(is_valid(make_state(q))))

@@ -6,7 +6,8 @@ Pipelines are registered by name, each implemented in one module and imported on
   as MoveIt's (``"RRTConnectkConfigDefault"``) or OMPL's (``"RRTConnect"``). Its geometric path
   is timed here with the planner's scaling factors.
 * ``"pilz_industrial_motion_planner"``: ``"PTP"``, ``"LIN"``, ``"CIRC"``
-  (:mod:`mtc.planners.pilz`), which time their motions themselves.
+  (:mod:`mtc.planners.pilz`), which time their motions themselves (re-timed along the same path
+  when ``max_cartesian_speed`` is set).
 
 An unknown pipeline or planner id makes ``init()`` raise ``ValueError`` listing the known ones.
 """
@@ -158,7 +159,7 @@ class PipelinePlanner(PlannerInterface):
                 seed=props.get("seed"),
             )
             return self._timed(result, traj)
-        return self._pipeline.plan_joint(
+        return self._cartesian_speed(*self._pipeline.plan_joint(
             from_scene,
             from_scene.current_state,
             to_scene.current_state,
@@ -168,7 +169,7 @@ class PipelinePlanner(PlannerInterface):
             props.get("max_velocity_scaling_factor"),
             props.get("max_acceleration_scaling_factor"),
             path_constraints,
-        )
+        ))
 
     def plan_to_pose(
         self,
@@ -206,7 +207,7 @@ class PipelinePlanner(PlannerInterface):
                 seed=props.get("seed"),
             )
             return self._timed(result, traj)
-        return self._pipeline.plan_pose(
+        return self._cartesian_speed(*self._pipeline.plan_pose(
             from_scene,
             from_scene.current_state,
             link,
@@ -219,7 +220,14 @@ class PipelinePlanner(PlannerInterface):
             props.get("max_acceleration_scaling_factor"),
             path_constraints,
             seed=props.get("seed"),
-        )
+        ))
+
+    def _cartesian_speed(self, result, traj):
+        # Pilz times its own motions; a Cartesian speed limit (applied after planning, as MoveIt's
+        # pipeline does) re-times them along the same path
+        if result and traj is not None and len(traj) > 0 and self.properties.get("max_cartesian_speed") > 0:
+            self._apply_timing(traj)
+        return result, traj
 
     def _timed(self, result, traj):
         # OMPL's paths are geometric: time them with this planner's settings

@@ -128,7 +128,6 @@ class PathValidity:
                 # evaluate once, so that unknown links or frames show up here, not mid-path
                 kcs.satisfied(scene.current_state, scene)
                 self._constraints = kcs
-        self._attached = scene.current_state._attached_frames
 
     @property
     def has_constraints(self) -> bool:
@@ -140,8 +139,8 @@ class PathValidity:
     def constraints_satisfied(self, q: np.ndarray) -> bool:
         if self._constraints is None:
             return True
-        state = RobotState(self.scene.robot_model, q)
-        state._attached_frames = self._attached
+        state = self.scene.current_state.copy()  # keeps the frames of attached objects
+        state.positions = q
         return bool(self._constraints.satisfied(state, self.scene))
 
     def __call__(self, q: np.ndarray) -> bool:
