@@ -143,12 +143,14 @@ def test_scenes(panda_task):
     # after attaching: the box hangs on the hand
     attached = data.scene_msg(attach["end"])
     assert attached.world.collision_objects == []
-    assert [(a.link_name, a.object.id) for a in attached.robot_state.attached_collision_objects] == [("panda_hand", "box")]
+    hanging = [(a.link_name, a.object.id) for a in attached.robot_state.attached_collision_objects]
+    assert hanging == [("panda_hand", "box")]
     # the move's scenes share the attach's environment, the robot moved
     assert data.scenes[move["start"]]["env"] == data.scenes[move["end"]]["env"]
     end = data.scene_msg(move["end"])
     last = dict(zip(end.robot_state.joint_state.name, end.robot_state.joint_state.position))
-    np.testing.assert_allclose([last[n] for n in data.trajectory(move["id"])["joint_names"]], data.trajectory(move["id"])["positions"][-1])
+    motion = data.trajectory(move["id"])
+    np.testing.assert_allclose([last[n] for n in motion["joint_names"]], motion["positions"][-1])
     # the full message equals the scene's own
     leaf = flatten(panda_task.solutions[0])[1]
     assert attached == leaf.end.scene.get_planning_scene_msg()

@@ -136,7 +136,9 @@ def execute(
     if solution.isFailure:
         raise ValueError(f"cannot execute a failed solution (comment: {solution.comment!r})")
     if callback is not None and not callable(callback):
-        raise TypeError(f"callback must be callable as callback(sub_trajectory, index, count), not {type(callback).__name__}")
+        raise TypeError(
+            f"callback must be callable as callback(sub_trajectory, index, count), not {type(callback).__name__}"
+        )
     _check_preempt_arg(preempt)
     leaves = flatten(solution)
     for i, leaf in enumerate(leaves):

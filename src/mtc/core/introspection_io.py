@@ -378,7 +378,11 @@ class IntrospectionData:
             return {**info, "cost": _cost_out(info["cost"])}
 
         stages = [
-            {**st, "solutions": [out_info(i) for i in st["solutions"]], "failures": [out_info(i) for i in st["failures"]]}
+            {
+                **st,
+                "solutions": [out_info(i) for i in st["solutions"]],
+                "failures": [out_info(i) for i in st["failures"]],
+            }
             for st in self.stages
         ]
         return {
