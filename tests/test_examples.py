@@ -63,6 +63,7 @@ TESTED = [
     "fallbacks_move_to",
     "alternative_path_costs",
     "ik_clearance_cost",
+    "pick_place_demo",
 ]
 
 
@@ -342,3 +343,28 @@ def test_ik_clearance_cost_orders_ik_solutions_by_clearance():
     for solution in task["IK"].solutions:
         assert "Clearance" in solution.comment
         assert solution.cost == pytest.approx(clearance(solution)[0])
+
+
+def test_pick_place_demo_places_the_cylinder():
+    task = run_example("pick_place_demo")
+    assert 1 <= len(task.solutions) <= 10
+    ready = mtc.RobotState(mtc.robots.panda())
+    ready.set_to_default_values("panda_arm", "ready")
+    for solution in task.solutions:
+        start, end = solution.start.scene, end_scene(solution)
+        assert start.get_frame_transform("object")[:2, 3] == pytest.approx([0.5, -0.25])
+        assert end.attached_object_names == []
+        assert end.get_frame_transform("object")[:3, 3] == pytest.approx([0.6, -0.15, 0.1251], abs=1e-6)
+        assert end.current_state.get_joint_group_positions("panda_arm") == pytest.approx(
+            ready.get_joint_group_positions("panda_arm"), abs=1e-3)  # "move home"
+        assert not end.is_state_colliding()
+
+
+def test_pick_place_demo_refuses_an_object_already_held():
+    namespace = runpy.run_path(str(EXAMPLES / "pick_place_demo.py"), run_name="example_pick_place_demo")
+    task = namespace["make_task"]()
+    mtc.current_scene().attach_object("object", "panda_link8")  # the object is in the hand already
+    assert not task.plan(max_solutions=1)
+    filter_stage = task["applicability test"]
+    assert [f.comment for f in filter_stage.failures] == [
+        "object with id 'object' is already attached and cannot be picked"]
