@@ -226,3 +226,13 @@ def test_publish_without_viewer_is_quiet(panda_task, monkeypatch):
     assert publish(panda_task.solutions[0]) is False
     with pytest.raises(TypeError, match="takes a solution"):
         publish(None)
+
+
+def test_current_scene_after_execute_equals_exported_end_scene(panda_task):
+    from mtc.core.export import solution_to_msg
+
+    solution = panda_task.solutions[0]
+    msg = solution_to_msg(solution)
+    assert execute(solution)
+    # what a consumer of the message would end up with is what execute() left behind
+    assert mtc.current_scene().get_planning_scene_msg() == msg.sub_trajectory[-1].scene_diff
