@@ -320,7 +320,7 @@ class PilzPipeline:
         return PlannerResult(True, ""), self._trajectory(start, jmg, Q, times, V, A)
 
     # ------------------------------------------------------------------ LIN, CIRC
-    def _arc(self, scene, planner_id, path_constraints, link, p0, p1):
+    def _arc(self, scene, path_constraints, p0, p1):
         """The CIRC circle: (centre, axis, radius, angle) of the arc from p0 to p1."""
         pc = path_constraints
         if pc is None or pc.name not in ("interim", "center") or not pc.position_constraints:
@@ -387,7 +387,7 @@ class PilzPipeline:
         rot_angle = float(np.linalg.norm(pin.log3(T0.rotation.T @ T1.rotation)))
 
         if is_circ:
-            center, axis, radius, arc_angle = self._arc(scene, planner_id, path_constraints, link, p0, p1)
+            center, axis, radius, arc_angle = self._arc(scene, path_constraints, p0, p1)
             r0 = p0 - center
             length = radius * arc_angle
 
