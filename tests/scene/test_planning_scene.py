@@ -806,3 +806,64 @@ def test_bad_input_names_the_item_and_leaves_the_scene_as_it_was(scene, case):
         assert word in message, (word, message)
     assert snapshot(scene) == before
     assert scene.get_collisions() == colliding
+
+
+# ---------------------------------------------------------------------------- end effector at a pose
+def _tcp_at(scene, xyz):
+    """The panda_link8 pose that puts panda_hand_tcp, pointing down, at ``xyz``."""
+    state = scene.current_state
+    tcp_in_link8 = np.linalg.inv(state.get_global_link_transform("panda_link8")) @ state.get_global_link_transform(
+        "panda_hand_tcp"
+    )
+    target = np.eye(4)
+    target[:3, :3] = np.diag([1.0, -1.0, -1.0])
+    target[:3, 3] = xyz
+    return target @ np.linalg.inv(tcp_in_link8)
+
+
+def test_link_collisions_at_a_pose_move_only_the_links_below(scene):
+    """get_link_collisions_at places link8 and everything below it at the pose; the arm stays."""
+    scene.apply_collision_object(box("b", (0.6, 0.0, 0.3), (0.1, 0.1, 0.1)))
+    assert not scene.is_state_colliding()
+    hits = scene.get_link_collisions_at("panda_link8", _tcp_at(scene, (0.6, 0.0, 0.3)))
+    assert ("panda_hand", "b") in hits and ("panda_leftfinger", "b") in hits
+    assert all(body in scene.robot_model.descendant_link_names("panda_link8") for body, _ in hits)
+    assert scene.get_link_collisions_at("panda_link8", _tcp_at(scene, (0.6, 0.0, 0.8))) == []
+    # the robot state is untouched by the query
+    assert not scene.is_state_colliding()
+
+
+def test_link_collisions_at_a_pose_honour_the_acm_and_carry_attached_objects(scene):
+    """Allowed pairs are not reported; an object attached below the link moves with it."""
+    scene.apply_collision_object(box("b", (0.6, 0.0, 0.3), (0.1, 0.1, 0.1)))
+    scene.allowed_collision_matrix.set_entry("b", scene.robot_model.descendant_link_names("panda_link8"), True)
+    assert scene.get_link_collisions_at("panda_link8", _tcp_at(scene, (0.6, 0.0, 0.3))) == []
+    tcp = scene.current_state.get_global_link_transform("panda_hand_tcp")[:3, 3]
+    scene.apply_collision_object(box("tool", tcp, (0.02, 0.02, 0.02)))
+    scene.attach_object("tool", "panda_hand", touch_links=FINGERS)
+    assert scene.get_link_collisions_at("panda_link8", _tcp_at(scene, (0.6, 0.0, 0.3))) == [("tool", "b")]
+
+
+def test_descendant_links(panda):
+    """descendant_link_names: the link itself and every link below it; unknown links name the links."""
+    assert panda.descendant_link_names("panda_link8") == [
+        "panda_link8", "panda_hand", "panda_hand_tcp", "panda_leftfinger", "panda_rightfinger"
+    ]
+    assert panda.descendant_link_names("panda_leftfinger") == ["panda_leftfinger"]
+    with pytest.raises(KeyError, match="unknown link 'nope'.*panda_link0"):
+        panda.descendant_link_names("nope")
+
+
+def test_validity_checker_outlives_its_scene(panda):
+    """A checker handed to a planner keeps its collision set-up alive after the scene is gone."""
+    import gc
+
+    def make():
+        ps = PlanningScene(panda)
+        ps.current_state.set_to_default_values("panda_arm", "ready")
+        ps.apply_collision_object(box("b", (0.307, 0.0, 0.487), (0.12, 0.12, 0.04)))
+        return ps.state_validity_checker("panda_arm"), ps.current_state.positions.copy()
+
+    is_valid, q = make()
+    gc.collect()
+    assert is_valid(q) is False

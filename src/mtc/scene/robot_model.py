@@ -661,6 +661,17 @@ class RobotModel:
         joint = self._parent_joint.get(link)
         return joint.name if joint else None
 
+    def descendant_link_names(self, link: str) -> list[str]:
+        """``link`` and every link below it in the kinematic tree (the links that move with it),
+        as MoveIt's ``getDescendantLinkModels`` plus the link itself.
+
+        Raises:
+            KeyError: unknown link.
+        """
+        if link not in self._children:
+            self.frame_id(link)  # raises naming the links
+        return self._subtree_links(link)
+
     def rigid_parent_link(self, link: str) -> tuple[str, np.ndarray]:
         """The nearest ancestor of ``link`` (itself included) that is the child of a movable
         joint or the root, and ``link``'s fixed 4x4 pose relative to it."""
