@@ -368,3 +368,129 @@ def test_pick_place_demo_refuses_an_object_already_held():
     filter_stage = task["applicability test"]
     assert [f.comment for f in filter_stage.failures] == [
         "object with id 'object' is already attached and cannot be picked"]
+
+
+# ---------------------------------------------------------------------------------------------
+# the seed's complete scripts (examples/seed/), imports changed only
+
+SEED = EXAMPLES / "seed"
+
+
+def run_seed(name: str, monkeypatch) -> dict:
+    """Run ``examples/seed/<name>.py`` as a script (``time.sleep`` instant); returns its globals."""
+    import time
+
+    monkeypatch.setattr(time, "sleep", lambda seconds: None)
+    return runpy.run_path(str(SEED / f"{name}.py"), run_name="__main__")
+
+
+def test_seed_scripts_change_only_imports():
+    for path in sorted(SEED.glob("*.py")):
+        tree = ast.parse(path.read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                assert node.module == "mtc" or node.module.startswith("mtc."), (path.name, node.module)
+            if isinstance(node, ast.Import):
+                for alias in node.names:
+                    assert alias.name in ("math", "time"), (path.name, alias.name)
+
+
+def test_seed_use_current_state(monkeypatch):
+    namespace = run_seed("use_currentstate_stage_in_moveit_task_constructor", monkeypatch)
+    assert len(namespace["task"].solutions) == 1
+
+
+def test_seed_parallel_and_sequential_containers(monkeypatch):
+    namespace = run_seed("moveit_task_constructor_parallel_and_sequential_containers", monkeypatch)
+    task, task2, task3 = namespace["task"], namespace["task2"], namespace["task3"]
+    # Alternatives: goal 2 is beyond panda_joint1's limit
+    assert len(task.solutions) == 1
+    assert len(task["Alternatives"]["goal 1"].solutions) == 1
+    assert len(task["Alternatives"]["goal 2"].solutions) == 0
+    # Fallbacks: Pilz PTP reaches 'extended', OMPL is not needed
+    assert len(task2.solutions) == 1
+    assert len(task2["Fallbacks"]["move (pilz)"].solutions) == 1
+    assert len(task2["Fallbacks"]["move (ompl)"].solutions) == 0
+    # Merger: one trajectory for hand and arm
+    assert len(task3.solutions) == 1
+    names = task3["Merger"].solutions[0].trajectory.joint_names
+    assert "panda_finger_joint1" in names and "panda_joint1" in names
+
+
+def test_seed_stages_connect_builds_a_constrained_connect(monkeypatch):
+    namespace = run_seed("stages_connect", monkeypatch)
+    connect = namespace["connect"]
+    assert connect.name == "transit"
+    constraints = connect.path_constraints
+    assert constraints.name == "upright"
+    assert constraints.orientation_constraints[0].link_name == "object"
+
+
+def test_seed_configure_and_forward_stage_properties(monkeypatch, capsys):
+    namespace = run_seed("configure_and_forward_stage_properties", monkeypatch)
+    out = capsys.readouterr().out
+    assert "speed = 0.5" in out and "timeout = 10.0" in out
+    assert "  max_solutions: 4" in out
+    pm2 = namespace["pm2"]
+    assert sorted(pm2) == ["speed", "timeout"] and pm2["timeout"] == 10.0
+
+
+def test_seed_high_level_pick_and_place(monkeypatch):
+    namespace = run_seed("high_level_pick_and_place_container_stages", monkeypatch)
+    task = namespace["task"]
+    assert len(task.solutions) >= 1
+    for solution in task.solutions:
+        end = end_scene(solution)
+        assert end.attached_object_names == []
+        assert end.get_frame_transform("box")[:3, 3] == pytest.approx([-0.2, -0.6, 0.0], abs=1e-6)
+
+
+def test_seed_planner_interfaces(monkeypatch):
+    namespace = run_seed("moveit_task_constructor_planner_interfaces", monkeypatch)
+    task = namespace["task"]
+    assert len(task.solutions) == 1
+    assert len(task["cart move"].solutions) == 1  # already at 'ready': a zero-length line
+    assert len(task["multi move"].solutions) == 1
+
+
+def test_seed_move_to_goal_types(monkeypatch):
+    namespace = run_seed("moveto_stage_with_different_goal_types_in_moveit_task_constructor", monkeypatch)
+    task = namespace["task"]
+    assert len(task.solutions) == 1
+    end = end_scene(task.solutions[0]).current_state.get_global_link_transform("panda_link8")
+    assert end[:3, 3] == pytest.approx([0.4, 0.0, 0.5], abs=1e-3)
+
+
+def test_seed_custom_generator_and_propagator(monkeypatch):
+    namespace = run_seed("custom_generator_and_propagator_stages", monkeypatch)
+    task = namespace["task"]
+    # the generator spawns 3 scenes (costs 2, 1, 0); each moves 0.1 m along x
+    assert len(task.solutions) == 3
+    costs = [solution.cost for solution in task.solutions]
+    assert costs == sorted(costs)
+    assert costs[1] - costs[0] == pytest.approx(1.0) and costs[2] - costs[1] == pytest.approx(1.0)
+    for solution in task.solutions:
+        start = solution.start.scene.current_state.get_global_link_transform("panda_link8")
+        end = end_scene(solution).current_state.get_global_link_transform("panda_link8")
+        assert end[:3, 3] - start[:3, 3] == pytest.approx([0.1, 0.0, 0.0], abs=1e-3)
+
+
+@pytest.mark.parametrize("name, stage", [
+    ("core_task_top_level_task_container", "move to ready"),
+    ("create_and_plan_a_task_with_moveit_task_constructor", "move to ready"),
+    ("connect_bridge_two_states_with_motion_planning", "transit"),
+])
+def test_seed_scripts_breaking_the_interface_rules_raise(monkeypatch, name, stage):
+    with pytest.raises(core.InitStageError) as error:
+        run_seed(name, monkeypatch)
+    assert f"'{stage}'" in str(error.value)
+    assert "interface" in str(error.value)
+
+
+def test_seed_grasp_generator_without_object_and_eef_raises(monkeypatch):
+    with pytest.raises(core.InitStageError) as error:
+        run_seed("generategrasppose_sample_grasp_poses_around_an_object", monkeypatch)
+    message = str(error.value)
+    assert "Generate Grasp Pose" in message
+    assert "'object'" in message and "'eef'" in message
+    assert "generator.object = " in message and "generator.eef = " in message  # how to fix it
