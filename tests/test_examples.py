@@ -85,6 +85,20 @@ def test_view_flag_uses_null_viewer_and_prints_no_url(capsys):
     assert len(task.solutions) == 1
 
 
+def test_readme_command_runs_as_a_script():
+    """``python examples/pickplace.py --view`` (the README's command) under MTC_NO_VIEWER=1."""
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, MTC_NO_VIEWER="1")
+    result = subprocess.run([sys.executable, str(EXAMPLES / "pickplace.py"), "--view"], env=env,
+                            capture_output=True, text=True, timeout=300)
+    assert result.returncode == 0, result.stderr
+    assert "plan: MoveItErrorCode(SUCCESS)" in result.stdout
+    assert "viewer at None" in result.stdout
+
+
 # ---------------------------------------------------------------------------------------------
 # MTC's Python demos (§6.2)
 
