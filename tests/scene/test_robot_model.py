@@ -480,3 +480,14 @@ def test_a_pathlib_path_finds_relative_meshes_too(tmp_path):
     from pathlib import Path
 
     assert RobotModel(Path(path)).links_with_collision_geometry == ["a"]
+
+
+def test_merged_group_is_the_union_named_like_mtc(panda):
+    """merged_group(['panda_arm', 'hand']) is 'panda_arm+hand' with both groups' variables, cached."""
+    merged = panda.merged_group(["panda_arm", "hand"])
+    assert merged.name == "panda_arm+hand"
+    assert merged.variable_names == [*panda.get_joint_model_group("panda_arm").variable_names, "panda_finger_joint1"]
+    assert panda.merged_group(["panda_arm", "hand"]) is merged
+    assert "panda_arm+hand" not in panda.joint_model_group_names
+    with pytest.raises(KeyError, match="unknown planning group 'arm'"):
+        panda.merged_group(["arm", "hand"])

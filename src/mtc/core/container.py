@@ -990,8 +990,7 @@ def merge_trajectories(trajectories: list, start_state, time_parameterization=No
             owner[v] = g
     if overlap:
         raise MergeError("overlapping joints: " + ", ".join(overlap))
-    # the merged group: the whole robot (a union group "g1+g2" does not exist in the model)
-    merged = RobotTrajectory(model, "")
+    merged = RobotTrajectory(model, model.merged_group([g.name for g in groups]))
     q = np.array(start_state.positions, dtype=float)
     for i in range(max(len(t) for t in trajectories)):
         for t in trajectories:

@@ -19,7 +19,7 @@ from functools import cached_property
 import numpy as np
 import pinocchio as pin
 
-from mtc.scene.srdf import SRDF, DescriptionError, parse_srdf, parse_xml, read_xml_source
+from mtc.scene.srdf import SRDF, DescriptionError, GroupSpec, parse_srdf, parse_xml, read_xml_source
 
 log = logging.getLogger(__name__)
 
@@ -395,6 +395,7 @@ class RobotModel:
 
         specs = {g.name: g for g in srdf.groups}
         self._groups: dict[str, JointModelGroup] = {}
+        self._merged_groups: dict[str, JointModelGroup] = {}
         for g in srdf.groups:
             self._groups[g.name] = self._make_group(g, specs, ())
 
@@ -610,6 +611,25 @@ class RobotModel:
             raise KeyError(
                 f"unknown planning group '{name}' (groups: {', '.join(self._groups) or 'none'})"
             ) from None
+
+    def merged_group(self, names) -> JointModelGroup:
+        """The union of several groups, named ``"g1+g2+..."`` as MTC's merged groups (built once,
+        then cached; it is not one of the SRDF's groups).
+
+        Raises:
+            KeyError: an unknown group.
+        """
+        groups = [self.get_joint_model_group(n) for n in names]
+        name = "+".join(g.name for g in groups)
+        cached = self._merged_groups.get(name)
+        if cached is None:
+            spec = GroupSpec(name, subgroups=[g.name for g in groups])
+            specs = {**{g.name: g for g in self._srdf.groups}, name: spec}
+            cached = self._make_group(spec, specs, ())
+            tips = [t for g in groups for t in g.end_effector_tips]
+            cached.end_effector_tips = list(dict.fromkeys(tips))
+            self._merged_groups[name] = cached
+        return cached
 
     def get_end_effector(self, name: str) -> EndEffector:
         """The end effector ``name``.

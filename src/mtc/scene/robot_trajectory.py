@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtc import msgs
-from mtc.scene.robot_model import RobotModel
+from mtc.scene.robot_model import JointModelGroup, RobotModel
 from mtc.scene.robot_state import RobotState
 
 __all__ = ["RobotTrajectory"]
@@ -20,10 +20,11 @@ class RobotTrajectory:
 
     Args:
         robot_model: the robot.
-        group_name: the planning group whose joints the trajectory moves ("" for all).
+        group_name: the planning group whose joints the trajectory moves ("" for all), or a
+            JointModelGroup (e.g. a merged group of ``robot_model.merged_group``).
     """
 
-    def __init__(self, robot_model: RobotModel, group_name: str = ""):
+    def __init__(self, robot_model: RobotModel, group_name: str | JointModelGroup = ""):
         if not isinstance(robot_model, RobotModel):
             raise TypeError(f"RobotTrajectory needs a RobotModel, not {type(robot_model).__name__}")
         self._model = robot_model
@@ -167,7 +168,7 @@ class RobotTrajectory:
         return self
 
     def copy(self) -> RobotTrajectory:
-        other = RobotTrajectory(self._model, self._group.name)
+        other = RobotTrajectory(self._model, self._group)
         other.waypoints = [s.copy() for s in self.waypoints]
         other._durations = list(self._durations)
         other.velocities = None if self.velocities is None else self.velocities.copy()
