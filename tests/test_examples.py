@@ -508,3 +508,26 @@ def test_seed_grasp_generator_without_object_and_eef_raises(monkeypatch):
     assert "Generate Grasp Pose" in message
     assert "'object'" in message and "'eef'" in message
     assert "generator.object = " in message and "generator.eef = " in message  # how to fix it
+
+
+# ---------------------------------------------------------------------------------------------
+# bench/task_bench.py (times the two pick-and-place examples)
+
+
+def test_task_bench_smoke(capsys):
+    bench = runpy.run_path(str(EXAMPLES.parent / "bench" / "task_bench.py"), run_name="task_bench")
+    results = bench["main"](["--seeds", "1", "--solutions", "2", "--example", "pickplace"])
+    run = results["pickplace"]["runs"][0]
+    assert run["ok"] and run["solutions"] == 2 and run["complete"]
+    assert 0 < run["first_s"] <= run["last_s"]
+    split = results["pickplace"]["split"]
+    assert split["Connect (OMPL)"] > 0 and split["IK (ComputeIK)"] > 0
+    assert "mtc.planners.ik" in results["pickplace"]["modules"]
+    out = capsys.readouterr().out
+    assert "time split by stage kind" in out and "scheduling (engine, the rest)" in out
+    # the seed reaches every OMPL planner and ComputeIK of the task
+    example = bench["load_example"]("pick_place_demo")
+    mtc.reset_current_scene()
+    task = example["make_task"]()
+    planners, iks = bench["seed_task"](task, 7)
+    assert planners == 1 and iks == 2  # one shared PipelinePlanner; grasp and place IK
