@@ -27,7 +27,8 @@ from mtc.msgs import (
 )
 
 
-def collision_object(name: str, shape: int, dimensions: list[float], xyz: tuple[float, float, float]) -> CollisionObject:
+def collision_object(name: str, shape: int, dimensions: list[float],
+                     xyz: tuple[float, float, float]) -> CollisionObject:
     """An ADD message of one primitive at ``xyz`` in the world, axis aligned.
 
     The object's own frame (``pose``) is its centre, so constraints on it are about the box.

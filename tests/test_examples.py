@@ -69,6 +69,7 @@ TESTED = [
 
 @pytest.mark.parametrize("name", TESTED)
 def test_example_has_docstring_main_and_view_flag(name):
+    """Every example has a module docstring, main() and a --view flag that publishes and holds."""
     source = (EXAMPLES / f"{name}.py").read_text()
     tree = ast.parse(source)
     assert ast.get_docstring(tree), f"{name}.py has no module docstring"
@@ -79,6 +80,7 @@ def test_example_has_docstring_main_and_view_flag(name):
 
 
 def test_view_flag_uses_null_viewer_and_prints_no_url(capsys):
+    """--view under MTC_NO_VIEWER=1 opens a NullViewer (no URL) and still plans."""
     task = run_example("current_state", "--view")
     out = capsys.readouterr().out
     assert "viewer at None" in out  # NullViewer under MTC_NO_VIEWER: no server, no URL
@@ -104,6 +106,7 @@ def test_readme_command_runs_as_a_script():
 
 
 def test_current_state(capsys):
+    """current_state.py: 1 solution of cost 0."""
     task = run_example("current_state")
     assert len(task.solutions) == 1
     assert task.solutions[0].cost == 0.0
@@ -112,12 +115,14 @@ def test_current_state(capsys):
 
 
 def test_fixed_state():
+    """fixed_state.py: 1 solution of cost 0."""
     task = run_example("fixed_state")
     assert len(task.solutions) == 1
     assert task.solutions[0].cost == 0.0
 
 
 def test_modify_planning_scene():
+    """modify_planning_scene.py: 1 solution whose end scene holds the new sphere."""
     task = run_example("modify_planning_scene", "--view")
     assert len(task.solutions) == 1
     solution = task.solutions[0]
@@ -126,6 +131,7 @@ def test_modify_planning_scene():
 
 
 def test_fix_collision_objects():
+    """fix_collision_objects.py: the penetrating box is pushed out of the fingers."""
     task = run_example("fix_collision_objects")
     assert len(task.solutions) == 1
     solution = task.solutions[0]
@@ -135,6 +141,7 @@ def test_fix_collision_objects():
 
 
 def test_cartesian():
+    """cartesian.py: 1 solution through every relative motion, back at the start."""
     task = run_example("cartesian")
     assert len(task.solutions) == 1
     solution = task.solutions[0]
@@ -148,6 +155,7 @@ def test_cartesian():
 
 
 def test_modular_reuses_one_module_five_times():
+    """modular.py: five copies of one container, children inherit the group."""
     task = run_example("modular")
     assert len(task.solutions) == 1
     modules = [stage for stage in task.stages if stage.name == "Cartesian Path"]
@@ -159,6 +167,7 @@ def test_modular_reuses_one_module_five_times():
 
 
 def test_alternatives_only_goal_1_succeeds():
+    """alternatives.py: goal 2 is beyond panda_joint1's limit, only goal 1 is reached."""
     task = run_example("alternatives")
     assert len(task.solutions) == 1
     alternatives = task["Alternatives"]
@@ -170,6 +179,7 @@ def test_alternatives_only_goal_1_succeeds():
 
 
 def test_fallbacks_first_child_succeeds():
+    """fallbacks.py: the Cartesian child succeeds, so the fallback never runs."""
     task = run_example("fallbacks")
     assert len(task.solutions) == 1
     fallbacks = task["Fallbacks"]
@@ -185,6 +195,7 @@ def test_fallbacks_first_child_succeeds():
 
 
 def test_merger_moves_arm_and_hand_together():
+    """merger.py: one trajectory moves the fingers and the arm."""
     task = run_example("merger")
     assert len(task.solutions) == 1
     merged = task["Merger"].solutions[0]
@@ -196,6 +207,7 @@ def test_merger_moves_arm_and_hand_together():
 
 
 def test_multi_planner_only_goal_1_succeeds():
+    """multi_planner.py: PTP/RRTConnect reach goal 1; goal 2 is out of limits."""
     task = run_example("multi_planner")
     assert len(task.solutions) == 1
     alternatives = task["Alternatives"]
@@ -204,6 +216,7 @@ def test_multi_planner_only_goal_1_succeeds():
 
 
 def test_compute_ik_connects_to_each_ik_solution():
+    """compute_ik.py: up to 4 IK solutions, each 0.2 m along the flange's z."""
     task = run_example("compute_ik")
     assert 1 <= len(task.solutions) <= 4  # max_ik_solutions = 4
     costs = [solution.cost for solution in task.solutions]
@@ -217,6 +230,7 @@ def test_compute_ik_connects_to_each_ik_solution():
 
 
 def test_generate_pose_connects_identical_states():
+    """generate_pose.py: without IK the spawned state is the monitored one."""
     task = run_example("generate_pose")
     assert len(task.solutions) == 1
     solution = task.solutions[0]
@@ -226,6 +240,7 @@ def test_generate_pose_connects_identical_states():
 
 
 def test_constrained_motion_keeps_the_object_upright():
+    """constrained.py: the held object stays upright at every waypoint."""
     from mtc.planners.constraints import KinematicConstraintSet
 
     namespace = runpy.run_path(str(EXAMPLES / "constrained.py"), run_name="example_constrained")
@@ -245,6 +260,7 @@ def test_constrained_motion_keeps_the_object_upright():
 
 
 def test_properties_tutorial(capsys):
+    """properties.py: the tutorial prints and stores the documented values."""
     namespace = runpy.run_path(str(EXAMPLES / "properties.py"), run_name="example_properties")
     pm, pm2, stage = namespace["property_tutorial"]()
     out = capsys.readouterr().out.splitlines()
@@ -259,6 +275,7 @@ def test_properties_tutorial(capsys):
 
 
 def test_pickplace_moves_the_box_to_the_place_pose():
+    """pickplace.py: the box ends detached at the place pose, carried upright."""
     from mtc.planners.constraints import KinematicConstraintSet
 
     namespace = runpy.run_path(str(EXAMPLES / "pickplace.py"), run_name="example_pickplace")
@@ -287,6 +304,7 @@ def test_pickplace_moves_the_box_to_the_place_pose():
 
 
 def test_fallbacks_move_to_each_start_takes_its_own_planner():
+    """fallbacks_move_to.py: start (a) by Cartesian path, (b) by PTP, (c) by RRTConnect."""
     task = run_example("fallbacks_move_to")
     assert len(task.solutions) == 3
     fallbacks = task["move to other side"]
@@ -317,6 +335,7 @@ def test_fallbacks_move_to_each_start_takes_its_own_planner():
 
 
 def test_alternative_path_costs_one_solution_per_cost_term():
+    """alternative_path_costs.py: 5 solutions, each costed by its own term."""
     task = run_example("alternative_path_costs")
     assert len(task.solutions) == 5
     alternatives = task["connect"]
@@ -339,6 +358,7 @@ def test_alternative_path_costs_one_solution_per_cost_term():
 
 
 def test_ik_clearance_cost_orders_ik_solutions_by_clearance():
+    """ik_clearance_cost.py: distinct IK solutions ordered by clearance cost."""
     task = run_example("ik_clearance_cost")
     n = len(task.solutions)
     assert 5 <= n <= 100  # a 1 s IK budget: the count depends on the machine
@@ -360,6 +380,7 @@ def test_ik_clearance_cost_orders_ik_solutions_by_clearance():
 
 
 def test_pick_place_demo_places_the_cylinder():
+    """pick_place_demo.py: the cylinder ends on the table at the place pose, arm at ready."""
     task = run_example("pick_place_demo")
     assert 1 <= len(task.solutions) <= 10
     ready = mtc.RobotState(mtc.robots.panda())
@@ -375,6 +396,7 @@ def test_pick_place_demo_places_the_cylinder():
 
 
 def test_pick_place_demo_refuses_an_object_already_held():
+    """pick_place_demo.py: the applicability test rejects a start holding the object."""
     namespace = runpy.run_path(str(EXAMPLES / "pick_place_demo.py"), run_name="example_pick_place_demo")
     task = namespace["make_task"]()
     mtc.current_scene().attach_object("object", "panda_link8")  # the object is in the hand already
@@ -399,6 +421,7 @@ def run_seed(name: str, monkeypatch) -> dict:
 
 
 def test_seed_scripts_change_only_imports():
+    """Seed scripts import only from mtc (plus math and time)."""
     for path in sorted(SEED.glob("*.py")):
         tree = ast.parse(path.read_text())
         for node in ast.walk(tree):
@@ -410,11 +433,13 @@ def test_seed_scripts_change_only_imports():
 
 
 def test_seed_use_current_state(monkeypatch):
+    """Seed 'Use CurrentState Stage': 1 solution."""
     namespace = run_seed("use_currentstate_stage_in_moveit_task_constructor", monkeypatch)
     assert len(namespace["task"].solutions) == 1
 
 
 def test_seed_parallel_and_sequential_containers(monkeypatch):
+    """Seed 'Parallel and Sequential Containers': goal 1, Pilz, and a merged motion."""
     namespace = run_seed("moveit_task_constructor_parallel_and_sequential_containers", monkeypatch)
     task, task2, task3 = namespace["task"], namespace["task2"], namespace["task3"]
     # Alternatives: goal 2 is beyond panda_joint1's limit
@@ -432,6 +457,7 @@ def test_seed_parallel_and_sequential_containers(monkeypatch):
 
 
 def test_seed_stages_connect_builds_a_constrained_connect(monkeypatch):
+    """Seed 'stages.Connect': a Connect with the upright path constraint."""
     namespace = run_seed("stages_connect", monkeypatch)
     connect = namespace["connect"]
     assert connect.name == "transit"
@@ -441,6 +467,7 @@ def test_seed_stages_connect_builds_a_constrained_connect(monkeypatch):
 
 
 def test_seed_configure_and_forward_stage_properties(monkeypatch, capsys):
+    """Seed 'Configure and Forward Stage Properties': prints and exposes the values."""
     namespace = run_seed("configure_and_forward_stage_properties", monkeypatch)
     out = capsys.readouterr().out
     assert "speed = 0.5" in out and "timeout = 10.0" in out
@@ -450,6 +477,7 @@ def test_seed_configure_and_forward_stage_properties(monkeypatch, capsys):
 
 
 def test_seed_high_level_pick_and_place(monkeypatch):
+    """Seed 'High-level Pick and Place': the box ends at the place pose."""
     namespace = run_seed("high_level_pick_and_place_container_stages", monkeypatch)
     task = namespace["task"]
     assert len(task.solutions) >= 1
@@ -460,6 +488,7 @@ def test_seed_high_level_pick_and_place(monkeypatch):
 
 
 def test_seed_planner_interfaces(monkeypatch):
+    """Seed 'Planner Interfaces': a zero-length Cartesian move, then MultiPlanner."""
     namespace = run_seed("moveit_task_constructor_planner_interfaces", monkeypatch)
     task = namespace["task"]
     assert len(task.solutions) == 1
@@ -468,6 +497,7 @@ def test_seed_planner_interfaces(monkeypatch):
 
 
 def test_seed_move_to_goal_types(monkeypatch):
+    """Seed 'MoveTo ... Different Goal Types': named, joint and pose goals all reached."""
     namespace = run_seed("moveto_stage_with_different_goal_types_in_moveit_task_constructor", monkeypatch)
     task = namespace["task"]
     assert len(task.solutions) == 1
@@ -476,6 +506,7 @@ def test_seed_move_to_goal_types(monkeypatch):
 
 
 def test_seed_custom_generator_and_propagator(monkeypatch):
+    """Seed 'Custom Generator and Propagator Stages': 3 spawned scenes, each moved +0.1 m x."""
     namespace = run_seed("custom_generator_and_propagator_stages", monkeypatch)
     task = namespace["task"]
     # the generator spawns 3 scenes (costs 2, 1, 0); each moves 0.1 m along x
@@ -495,6 +526,7 @@ def test_seed_custom_generator_and_propagator(monkeypatch):
     ("connect_bridge_two_states_with_motion_planning", "transit"),
 ])
 def test_seed_scripts_breaking_the_interface_rules_raise(monkeypatch, name, stage):
+    """Seeds ending in a Connect, or a MoveTo after one, raise InitStageError naming the stage."""
     with pytest.raises(core.InitStageError) as error:
         run_seed(name, monkeypatch)
     assert f"'{stage}'" in str(error.value)
@@ -502,6 +534,7 @@ def test_seed_scripts_breaking_the_interface_rules_raise(monkeypatch, name, stag
 
 
 def test_seed_grasp_generator_without_object_and_eef_raises(monkeypatch):
+    """Seed 'GenerateGraspPose': object and eef unset -> InitStageError with a fix."""
     with pytest.raises(core.InitStageError) as error:
         run_seed("generategrasppose_sample_grasp_poses_around_an_object", monkeypatch)
     message = str(error.value)
@@ -515,6 +548,7 @@ def test_seed_grasp_generator_without_object_and_eef_raises(monkeypatch):
 
 
 def test_task_bench_smoke(capsys):
+    """bench/task_bench.py runs, times, splits the profile and seeds every planner and IK."""
     bench = runpy.run_path(str(EXAMPLES.parent / "bench" / "task_bench.py"), run_name="task_bench")
     results = bench["main"](["--seeds", "1", "--solutions", "2", "--example", "pickplace"])
     run = results["pickplace"]["runs"][0]
