@@ -18,16 +18,18 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    kinematics (several distinct, valid solutions; the planner may reach any of them).
 3. The straight joint-space segment is tried first; a free one is the answer.
 4. Otherwise OMPL's planner searches the group's joint space. Motions are validated by
-   :class:`_EdgeChecker`: states interpolated in numpy along the edge, at most
-   :data:`DEFAULT_RESOLUTION` rad apart in every joint, checked end first and then by
-   bisection (so a blocked edge is usually found out after a few checks), with Pinocchio's
-   broad-phase collision check and the path constraints. Start and goal are exact; the goal
-   tolerance only admits goals already that close.
+   :class:`_EdgeChecker` in numpy batches: states interpolated along the edge, checked end
+   first and then by bisection (so a blocked edge is usually found out after a few checks),
+   with the scene's broad-phase collision check and the path constraints. The search checks
+   every :data:`DEFAULT_SEARCH_RATIO`-th state (0.06 rad apart); the answer is checked at
+   every state (:data:`DEFAULT_RESOLUTION`, 0.015 rad), and an edge of the search's path that
+   fails there is replanned with full checks. Start and goal are exact; the goal tolerance
+   only admits goals already that close.
 5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
-   points on the path) under a time cap (:data:`SIMPLIFY_TIME_FRACTION` of the planning time,
-   at least :data:`MIN_SIMPLIFY_TIME`), then interpolated to waypoints at most
-   ``maximum extent / 100`` apart (at least :data:`MIN_WAYPOINT_COUNT`), as MoveIt does. Every
-   waypoint is one of the states the edge checker validated.
+   points on the path, bounded by counts so that a seed gives one result), then
+   interpolated to waypoints at most ``maximum extent / 100`` apart (at least
+   :data:`MIN_WAYPOINT_COUNT`), as MoveIt does. Every waypoint is one of the states the edge
+   checker validated.
 
 Path constraints: joint constraints narrow the planner's joint bounds. Position and
 orientation constraints make a constrained problem that a state sampler cannot reach through
@@ -86,10 +88,9 @@ DEFAULT_RESOLUTION = 0.015
 #: Start states outside the bounds by at most this much are moved onto them [rad or m]
 #: (MoveIt's ``start_state_max_bounds_error``).
 START_STATE_MAX_BOUNDS_ERROR = 0.05
-#: Path simplification may use this fraction of the time the planner took ...
-SIMPLIFY_TIME_FRACTION = 1.0
-#: ... but at least this much [s] (and never more than the request's remaining time).
-MIN_SIMPLIFY_TIME = 0.005
+#: Random shortcuts stop after this many tries in a row without a gain (at least one per
+#: path vertex); the greedy pass before them tries every vertex once.
+SHORTCUT_FAILURES = 5
 #: Fewest waypoints of a returned path (MoveIt's ``minimum_waypoint_count``).
 MIN_WAYPOINT_COUNT = 10
 #: IK solutions sampled as goal states of a pose goal.
@@ -451,7 +452,9 @@ def _path_length(path: np.ndarray) -> float:
 def _shortcut(path: np.ndarray, check: Callable[[np.ndarray, np.ndarray], bool], rng: np.random.Generator,
               deadline: float) -> np.ndarray:
     """Shorten a valid path: greedy vertex shortcuts, then random shortcuts between points on
-    the path, until ``deadline`` or no progress. Every edge of the result passed ``check``."""
+    the path until :data:`SHORTCUT_FAILURES` tries in a row (at least one per vertex) brought
+    nothing. The work is bounded by counts, not time, so a seed gives one result; ``deadline``
+    (the request's) only stops it early. Every edge of the result passed ``check``."""
     path = [np.asarray(p, dtype=float) for p in path]
     # 1) greedy: from each vertex jump to the farthest vertex it sees
     out = [path[0]]
@@ -470,7 +473,7 @@ def _shortcut(path: np.ndarray, check: Callable[[np.ndarray, np.ndarray], bool],
     path = out
     # 2) random shortcuts between points on two different edges
     failures = 0
-    max_failures = max(5, len(path))
+    max_failures = max(SHORTCUT_FAILURES, len(path))
     while len(path) > 2 and failures < max_failures and time.perf_counter() < deadline:
         seg = np.linalg.norm(np.diff(np.asarray(path), axis=0), axis=1)
         total = float(seg.sum())
@@ -952,15 +955,14 @@ class OMPLPipeline:
         does not succeed in time."""
         t0 = time.perf_counter()
         checker = req.checker
-        budget = max(MIN_SIMPLIFY_TIME, SIMPLIFY_TIME_FRACTION * plan_time)
-        deadline = min(t0 + budget, req.deadline)
+        deadline = req.deadline
         rng = np.random.default_rng([int(seed), 2])
         out = _shortcut(path, checker.edge_ok, rng, deadline)
         if not checker.path_ok(out, fine=True):
             repaired = self._repair(req, path, runner, cls_name, seed)
             out = repaired
             if repaired is not None:
-                again = _shortcut(repaired, checker.edge_ok_fine, rng, time.perf_counter() + MIN_SIMPLIFY_TIME)
+                again = _shortcut(repaired, checker.edge_ok_fine, rng, deadline)
                 if checker.path_ok(again, fine=True):
                     out = again
         self.last_stats.simplify_time += time.perf_counter() - t0
