@@ -234,7 +234,8 @@ class PlanStats:
         attempts: attempts run.
         search_checks: state checks made by the search (the rest: shortcutting and the
             full-resolution check of the result).
-        fine_retries: searches repeated because a coarse-valid path failed the fine check.
+        fine_retries: edges of a search's path that failed the full-resolution check and were
+            replanned with full checks.
     """
 
     planner: str = ""
@@ -927,7 +928,7 @@ class OMPLPipeline:
                 attempt += 1
                 continue
             stats.raw_waypoints = len(path)
-            final = self._finalize(req, path, runner, cls_name, time.perf_counter() - t_plan, seed + attempt)
+            final = self._finalize(req, path, runner, cls_name, seed + attempt)
             if final is None:
                 last_message = "TIMED_OUT: no collision-free path at the checking resolution within the time"
                 attempt += 1
@@ -948,7 +949,7 @@ class OMPLPipeline:
         # MoveIt: max_solution_segment_length = maximum extent of the space / 100
         return float(np.linalg.norm(req.upper - req.lower)) / 100.0
 
-    def _finalize(self, req: _Request, path: np.ndarray, runner, cls_name: str, plan_time: float, seed: int):
+    def _finalize(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int):
         """Shortcut a path the search found (its edges valid at the search resolution) and make
         sure the result is valid at the full resolution. Edges of the search's path that fail
         the full check are replanned with full checks (a short sub-search each). None if that
