@@ -6,8 +6,8 @@ of ``FixedState`` stages) each need a different planner to reach ``ready`` with
 ``MoveTo`` with ``CartesianPath``, then with Pilz ``PTP``, then with OMPL ``RRTConnect``:
 
 * (a) ``panda_joint1 = -tau/8``: close to the target in the workspace, a straight line works;
-* (b) ``panda_joint1 = +tau/8``, ``panda_joint4`` at its upper limit (arm stretched): the line fails, a joint-space PTP
-  motion is free of collisions;
+* (b) ``panda_joint1 = +tau/8``, ``panda_joint4`` at its upper limit (arm stretched): the
+  line fails, a joint-space PTP motion is free of collisions;
 * (c) as (a) plus a box between start and goal: only RRTConnect finds a way around.
 
 Expected outcome: 3 solutions, (a) via "Cartesian path", (b) via "PTP path", (c) via
