@@ -353,3 +353,24 @@ def test_planning_prints_nothing_and_leaks_nothing():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert proc.stdout == "" and proc.stderr == "", proc.stdout + proc.stderr
+
+
+def test_continuous_joints_start_at_the_start_values():
+    """The toy robot's continuous joints: a start at 4 rad (beyond pi) begins the path at 4,
+    and the goal is reached modulo a full turn."""
+    from pathlib import Path
+
+    import mtc
+
+    data = Path(__file__).resolve().parents[1] / "data"
+    toy = mtc.RobotModel(str(data / "toy_robot.urdf"), str(data / "toy_robot.srdf"))
+    scene = PlanningScene(toy)
+    start = scene.current_state.copy()
+    start.positions = [4.0, 0.5, 0.0]
+    goal = scene.current_state.copy()
+    goal.positions = [-1.0, -0.5, 0.0]
+    result, traj = OMPLPipeline().plan_joint(scene, start, goal, "group", seed=0)
+    assert result, result.message
+    np.testing.assert_allclose(traj[0].positions, start.positions)
+    assert traj[-1].distance(goal, "group") == pytest.approx(0.0, abs=1e-9)
+    assert np.abs(np.diff(traj.positions, axis=0)).max() < 0.5  # no jump of a full turn

@@ -552,6 +552,7 @@ class _Request:
     checker: _EdgeChecker
     deadline: float
     t0: float
+    turns: np.ndarray  # per group variable: what wrapping continuous joints into [-pi, pi) removed
 
 
 class OMPLPipeline:
@@ -724,7 +725,9 @@ class OMPLPipeline:
         original = None
         x = base[idx].copy()
         cont = model.continuous_mask[idx]
+        unwrapped = x.copy()
         x[cont] = (x[cont] + np.pi) % (2 * np.pi) - np.pi
+        turns = unwrapped - x  # multiples of 2 pi, added back to the path
         model_lo, model_hi = self._group_bounds(model, idx)
         below, above = model_lo - x, x - model_hi
         worst = np.maximum(below, above)
@@ -752,7 +755,7 @@ class OMPLPipeline:
             raise KeyError(f"path constraints: {e.args[0] if e.args else e}") from None
         checker = _EdgeChecker(scene, jmg, base, evaluator, self.resolution, self.search_ratio)
         req = _Request(
-            scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0
+            scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0, turns
         )
         # start validity: collision (with the bodies named), then path constraints
         start_state = RobotState(model, base)
@@ -993,8 +996,12 @@ class OMPLPipeline:
 
     def _success(self, req: _Request, path: np.ndarray, dense: np.ndarray):
         model = req.scene.robot_model
-        positions = np.asarray(dense, dtype=float)
-        traj = RobotTrajectory.from_positions(model, req.group.name, RobotState(model, req.base), positions)
+        # continuous joints were planned in [-pi, pi): shift the whole path by the turns the
+        # start had, so it starts at the start's own values (the goal is reached modulo 2 pi)
+        positions = np.asarray(dense, dtype=float) + req.turns
+        base = req.base.copy()
+        base[req.group.variable_indices] = positions[0]
+        traj = RobotTrajectory.from_positions(model, req.group.name, RobotState(model, base), positions)
         if req.original_start is not None:
             traj.add_prefix_waypoint(RobotState(model, req.original_start))
         self.last_stats.path_length = _path_length(np.asarray(path))
