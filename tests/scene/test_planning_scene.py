@@ -867,3 +867,19 @@ def test_validity_checker_outlives_its_scene(panda):
     is_valid, q = make()
     gc.collect()
     assert is_valid(q) is False
+
+
+def test_state_reports_attached_frames_as_link_and_offset(scene):
+    """get_attached_frame: (link, offset) for an attached object and its subframe; None otherwise."""
+    msg = box("tool", (0.307, 0.0, 0.45), (0.02, 0.02, 0.02))
+    msg.subframe_names, msg.subframe_poses = ["tip"], [pose((0.0, 0.0, 0.05))]
+    scene.apply_collision_object(msg)
+    scene.attach_object("tool", "panda_hand", touch_links=FINGERS)
+    state = scene.current_state
+    link, offset = state.get_attached_frame("tool")
+    assert link == "panda_hand"
+    np.testing.assert_allclose(state.get_global_link_transform(link) @ offset, state.get_frame_transform("tool"))
+    link, offset = state.get_attached_frame("tool/tip")
+    np.testing.assert_allclose(translation(state.get_global_link_transform(link) @ offset), (0.307, 0.0, 0.5), atol=1e-9)
+    assert state.get_attached_frame("panda_hand") is None
+    assert RobotState(scene.robot_model).get_attached_frame("tool") is None

@@ -92,7 +92,7 @@ def ik_frame_link(scene: PlanningScene, ik_frame: msgs.PoseStamped | None, jmg: 
     if model.has_link_model(frame):
         link = frame
     else:
-        attached = ik.attached_frame(state, frame)
+        attached = state.get_attached_frame(frame)
         if attached is None:
             return None, None, "ik_frame doesn't specify a link frame"
         link = attached[0]

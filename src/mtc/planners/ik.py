@@ -314,14 +314,6 @@ def get_ik_solver(robot_model: RobotModel, group: str, link: str) -> IKSolver:
     return solver
 
 
-def attached_frame(state: RobotState, frame: str) -> tuple[str, np.ndarray] | None:
-    """``(link, 4x4 offset)`` of an attached object or its subframe (``"object/subframe"``) in
-    a state taken from a planning scene, or None."""
-    # RobotState has no public query for this yet: it keeps the scene's resolver privately
-    resolver = state._attached_frames
-    return None if resolver is None else resolver(frame)
-
-
 def resolve_tip(state: RobotState, group: str, tip: str | None) -> tuple[str, np.ndarray]:
     """The link to solve for and the fixed offset of ``tip`` relative to it.
 
@@ -345,7 +337,7 @@ def resolve_tip(state: RobotState, group: str, tip: str | None) -> tuple[str, np
         return tips[0], np.eye(4)
     if model.has_link_model(tip):
         return tip, np.eye(4)
-    attached = attached_frame(state, tip)
+    attached = state.get_attached_frame(tip)
     if attached is not None:
         link, offset = attached
         return link, np.asarray(offset, dtype=float)

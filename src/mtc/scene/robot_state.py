@@ -228,16 +228,23 @@ class RobotState:
         Raises:
             KeyError: unknown frame, naming the links (and attached objects) that exist.
         """
-        if self._attached_frames is not None:
-            entry = self._attached_frames(frame)
-            if entry is not None:
-                link, offset = entry
-                return self.get_global_link_transform(link) @ offset
+        entry = self.get_attached_frame(frame)
+        if entry is not None:
+            link, offset = entry
+            return self.get_global_link_transform(link) @ offset
         if frame in self._model._frame_ids:
             return self.get_global_link_transform(frame)
         raise KeyError(
             f"unknown frame '{frame}' (links: {', '.join(self._model.link_model_names)})"
         )
+
+    def get_attached_frame(self, frame: str) -> tuple[str, np.ndarray] | None:
+        """For an attached object or one of its subframes (``"object"``, ``"object/subframe"``)
+        of the scene this state belongs to: ``(link, offset)``, the link it is attached to and
+        its fixed 4x4 pose in that link's frame. ``None`` for anything else."""
+        if self._attached_frames is None:
+            return None
+        return self._attached_frames(frame)
 
     def knows_frame_transform(self, frame: str) -> bool:
         try:
