@@ -56,6 +56,8 @@ def main(argv: list[str] | None = None) -> core.Task:
     task = make_task()
     result = task.plan()
     task.printState()
+    if not result:
+        task.explainFailure()  # which stages failed, and why
     print(f"plan: {result}, {len(task.solutions)} solution(s), costs:",
           [round(s.cost, 4) for s in task.solutions])
     if viewer is not None and task.solutions:
