@@ -568,29 +568,30 @@ class SerialContainer(ContainerBase):
 
 def _collect(direction: int, start: SolutionBase) -> list[tuple[list, Priority]]:
     """All partial solution paths from ``start`` in ``direction`` (failures skipped), with summed priority."""
-    results: list[tuple[list, Priority]] = []
     forward = direction == FORWARD
     nxt = start._end.outgoing if forward else start._start.incoming
     if not nxt:
-        results.append(([], _ZERO))
-        return results
-    trace: list[SolutionBase] = []
-
-    def traverse(solutions, depth, cost):
-        for succ in solutions:
-            c = succ._cost
-            if not (-INF < c < INF):
-                continue  # skip failures
-            trace.append(succ)
-            following = succ._end.outgoing if forward else succ._start.incoming
-            if following:
-                traverse(following, depth + 1, cost + c)
-            else:
-                results.append((list(trace), _new_tuple(Priority, (0, -(depth + 1), cost + c))))
-            trace.pop()
-
-    traverse(nxt, 0, 0.0)
+        return [([], _ZERO)]
+    results: list[tuple[list, Priority]] = []
+    _traverse(nxt, forward, 0, 0.0, [], results)
     return results
+
+
+def _traverse(solutions, forward: bool, depth: int, cost: float, trace: list, results: list) -> None:
+    # a module-level function, not a closure: a recursive closure is a reference cycle
+    # (function <-> cell) that only the cyclic garbage collector frees, and with thousands
+    # of solutions those full collections dominated the scheduler's run time
+    for succ in solutions:
+        c = succ._cost
+        if not (-INF < c < INF):
+            continue  # skip failures
+        trace.append(succ)
+        following = succ._end.outgoing if forward else succ._start.incoming
+        if following:
+            _traverse(following, forward, depth + 1, cost + c, trace, results)
+        else:
+            results.append((trace.copy(), _new_tuple(Priority, (0, -(depth + 1), cost + c))))
+        trace.pop()
 
 
 _ZERO = _new_tuple(Priority, (0, 0, 0.0))

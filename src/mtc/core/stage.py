@@ -1002,14 +1002,16 @@ class _LazySeq:
 
     __slots__ = ("_args", "_value")
 
-    def __init__(self, pending, pair, key, seq, i0, j0, i, j):
-        self._args = (pending, pair, key, seq, i0, j0, i, j)
+    def __init__(self, pending, start, end, key, seq, i0, j0, i, j):
+        # the pair's states, not the pair: pair -> seq -> this -> pair would be a reference
+        # cycle, left for the (slow, full) cyclic garbage collection once the pair is done
+        self._args = (pending, start, end, key, seq, i0, j0, i, j)
         self._value = None
 
     def value(self):
         if self._args is not None:
-            pending, pair, key, seq, i0, j0, i, j = self._args
-            self._value = pending._replay(pair, key, seq, i0, j0, i, j)[1]
+            pending, start, end, key, seq, i0, j0, i, j = self._args
+            self._value = pending._replay(start, end, key, seq, i0, j0, i, j)[1]
             self._args = None
         return self._value
 
@@ -1164,7 +1166,7 @@ class _PendingPairs:
             before = (ps[1] + pe[1], ps[2] + pe[2])
             if before != after:
                 # the key before this event and the seq it had then (evaluated when needed)
-                lazy = _LazySeq(self, pair, pair.key, pair.seq, i0, j0, i, j)
+                lazy = _LazySeq(self, pair.start, pair.end, pair.key, pair.seq, i0, j0, i, j)
                 pair.seq = (-t, before, lazy) if before < after else (t, before, lazy)
                 pair.key = after
                 pair.vs, pair.ve = ns, ne
@@ -1172,12 +1174,12 @@ class _PendingPairs:
         pair.vs, pair.ve = ns, ne
         return False
 
-    def _replay(self, pair: _Pair, key, seq, i: int, j: int, ns: int, ne: int):
-        """(key, seq) of ``pair`` after the events [i, ns) of its start and [j, ne) of its end."""
-        es = self._events.get(pair.start)
-        ee = self._events.get(pair.end)
-        ps = es[i][1] if i < ns else self._prioAt(pair.start, ns)
-        pe = ee[j][1] if j < ne else self._prioAt(pair.end, ne)
+    def _replay(self, start: InterfaceState, end: InterfaceState, key, seq, i: int, j: int, ns: int, ne: int):
+        """(key, seq) of the pair (start, end) after the events [i, ns) of its start and [j, ne) of its end."""
+        es = self._events.get(start)
+        ee = self._events.get(end)
+        ps = es[i][1] if i < ns else self._prioAt(start, ns)
+        pe = ee[j][1] if j < ne else self._prioAt(end, ne)
         while i < ns or j < ne:
             if j >= ne or (i < ns and es[i][0] < ee[j][0]):
                 t, _old, ps = es[i]
