@@ -1,82 +1,72 @@
 """The task constructor's core: stages, containers, the Task, properties and cost terms.
 
 Mirrors MTC's Python ``core`` module (``from moveit.task_constructor import core`` becomes
-``from mtc import core``). The planner classes (``PipelinePlanner``, ``CartesianPath``, ...)
-live in :mod:`mtc.planners` and are re-exported here on first use.
+``from mtc import core``). Names load on first use, so importing one part (the planners use
+``mtc.core.properties``) does not load the rest. The planner classes (``PipelinePlanner``,
+``CartesianPath``, ...) live one layer below, in :mod:`mtc.planners`, and are re-exported here.
 """
 
 from __future__ import annotations
 
 import importlib
 
-from mtc.core.container import (
-    Alternatives,
-    ContainerBase,
-    Fallbacks,
-    MergeError,
-    Merger,
-    ParallelContainerBase,
-    SerialContainer,
-    WrapperBase,
-    merge_trajectories,
-)
-from mtc.core.cost_terms import (
-    Clearance,
-    Constant,
-    CostTerm,
-    DistanceToReference,
-    LambdaCostTerm,
-    LinkMotion,
-    LinkRotation,
-    PathLength,
-    TrajectoryCostTerm,
-    TrajectoryDuration,
-)
-from mtc.core.introspection import Introspection
-from mtc.core.properties import (
-    Property,
-    PropertyError,
-    PropertyInitializerSource,
-    PropertyMap,
-    PropertyType,
-    PropertyTypeError,
-    UndeclaredPropertyError,
-    UndefinedPropertyError,
-    unsigned_int,
-)
-from mtc.core.stage import (
-    ComputeBase,
-    Connecting,
-    Generator,
-    InitStageError,
-    MonitoringGenerator,
-    PropagatingBackward,
-    PropagatingEitherWay,
-    PropagatingForward,
-    Stage,
-    TrajectoryExecutionInfo,
-)
-from mtc.core.storage import (
-    Interface,
-    InterfaceState,
-    Priority,
-    SolutionBase,
-    SolutionSequence,
-    Solutions,
-    Status,
-    SubTrajectory,
-    WrappedSolution,
-)
-from mtc.core.task import MoveItErrorCode, Task
+# public name -> module under mtc.core
+_EXPORTS = {
+    "Alternatives": "container",
+    "Clearance": "cost_terms",
+    "ComputeBase": "stage",
+    "Connecting": "stage",
+    "Constant": "cost_terms",
+    "ContainerBase": "container",
+    "CostTerm": "cost_terms",
+    "DistanceToReference": "cost_terms",
+    "Fallbacks": "container",
+    "Generator": "stage",
+    "InitStageError": "stage",
+    "Interface": "storage",
+    "InterfaceState": "storage",
+    "Introspection": "introspection",
+    "LambdaCostTerm": "cost_terms",
+    "LinkMotion": "cost_terms",
+    "LinkRotation": "cost_terms",
+    "MergeError": "container",
+    "Merger": "container",
+    "MonitoringGenerator": "stage",
+    "MoveItErrorCode": "task",
+    "ParallelContainerBase": "container",
+    "PathLength": "cost_terms",
+    "Priority": "storage",
+    "PropagatingBackward": "stage",
+    "PropagatingEitherWay": "stage",
+    "PropagatingForward": "stage",
+    "Property": "properties",
+    "PropertyError": "properties",
+    "PropertyInitializerSource": "properties",
+    "PropertyMap": "properties",
+    "PropertyType": "properties",
+    "PropertyTypeError": "properties",
+    "SerialContainer": "container",
+    "Solution": "storage",
+    "SolutionBase": "storage",
+    "SolutionSequence": "storage",
+    "Solutions": "storage",
+    "Stage": "stage",
+    "Status": "storage",
+    "SubTrajectory": "storage",
+    "Task": "task",
+    "TrajectoryCostTerm": "cost_terms",
+    "TrajectoryDuration": "cost_terms",
+    "TrajectoryExecutionInfo": "stage",
+    "UndeclaredPropertyError": "properties",
+    "UndefinedPropertyError": "properties",
+    "WrappedSolution": "storage",
+    "WrapperBase": "container",
+    "merge_trajectories": "container",
+    "unsigned_int": "properties",
+}
 
-# MTC's Python name of the solution base class
-Solution = SolutionBase
-
-# MTC's C++ names of the property errors
-Property.error = PropertyError
-Property.undeclared = UndeclaredPropertyError
-Property.undefined = UndefinedPropertyError
-Property.type_error = PropertyTypeError
+# MTC's Python names that differ from the class names here
+_ALIASES = {"Solution": "SolutionBase"}
 
 _PLANNERS = (
     "PlannerInterface",
@@ -87,72 +77,20 @@ _PLANNERS = (
     "MultiPlanner",
 )
 
-__all__ = [
-    "Alternatives",
-    "Clearance",
-    "ComputeBase",
-    "Connecting",
-    "Constant",
-    "ContainerBase",
-    "CostTerm",
-    "DistanceToReference",
-    "Fallbacks",
-    "Generator",
-    "InitStageError",
-    "Interface",
-    "InterfaceState",
-    "Introspection",
-    "LambdaCostTerm",
-    "LinkMotion",
-    "LinkRotation",
-    "MergeError",
-    "Merger",
-    "MonitoringGenerator",
-    "MoveItErrorCode",
-    "ParallelContainerBase",
-    "PathLength",
-    "Priority",
-    "PropagatingBackward",
-    "PropagatingEitherWay",
-    "PropagatingForward",
-    "Property",
-    "PropertyError",
-    "PropertyInitializerSource",
-    "PropertyMap",
-    "PropertyType",
-    "PropertyTypeError",
-    "SerialContainer",
-    "Solution",
-    "SolutionBase",
-    "SolutionSequence",
-    "Solutions",
-    "Stage",
-    "Status",
-    "SubTrajectory",
-    "Task",
-    "TrajectoryCostTerm",
-    "TrajectoryDuration",
-    "TrajectoryExecutionInfo",
-    "UndeclaredPropertyError",
-    "UndefinedPropertyError",
-    "WrappedSolution",
-    "WrapperBase",
-    "merge_trajectories",
-    "unsigned_int",
-    *_PLANNERS,
-]
+__all__ = sorted([*_EXPORTS, *_PLANNERS])
 
 
 def __getattr__(name: str):
-    # planners live one layer below (mtc.planners) and are imported on first use, so that
-    # mtc.core works before/without them
-    if name in _PLANNERS:
-        planners = importlib.import_module("mtc.planners")
-        value = getattr(planners, name)
-        globals()[name] = value
-        return value
-    raise AttributeError(f"module 'mtc.core' has no attribute '{name}'")
+    module = _EXPORTS.get(name)
+    if module is not None:
+        value = getattr(importlib.import_module(f"mtc.core.{module}"), _ALIASES.get(name, name))
+    elif name in _PLANNERS:
+        value = getattr(importlib.import_module("mtc.planners"), name)
+    else:
+        raise AttributeError(f"module 'mtc.core' has no attribute '{name}'")
+    globals()[name] = value
+    return value
 
 
 def __dir__():
-    return sorted(set(globals()) | set(_PLANNERS))
+    return __all__

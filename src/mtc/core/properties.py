@@ -599,3 +599,10 @@ class TypedPropertyAccess:
                     raise
                 return
         object.__setattr__(self, name, value)
+
+
+# MTC's C++ names of the property errors (Property::error, Property::undeclared, ...)
+Property.error = PropertyError
+Property.undeclared = UndeclaredPropertyError
+Property.undefined = UndefinedPropertyError
+Property.type_error = PropertyTypeError
