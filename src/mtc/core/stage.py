@@ -23,7 +23,7 @@ import math
 import numbers
 import time
 from bisect import bisect_left, bisect_right
-from heapq import heappop, heappush
+from heapq import heapify, heappop, heappush, heapreplace
 from collections.abc import Callable, Iterable
 from enum import IntEnum
 
@@ -1063,7 +1063,7 @@ class _PendingPairs:
     """
 
     __slots__ = ("_owner", "_fast", "_heap", "_t", "_events", "_known", "_count",
-                 "_pairs", "_keys", "_sorted", "_by_state", "_foreign")
+                 "_pairs", "_keys", "_sorted", "_by_state", "_foreign", "_front")
 
     def __init__(self, owner: "Connecting"):
         self._owner = owner
@@ -1072,6 +1072,7 @@ class _PendingPairs:
     def clear(self) -> None:
         self._fast = _PendingPairs.FAST
         self._heap: list = []
+        self._front: _Pair | None = None  # the verified front pair while nothing changes
         self._t = 0
         self._events: dict[InterfaceState, list] = {}  # state -> [(t, old prio, new prio)]
         self._known: dict[InterfaceState, Priority] = {}  # state -> last seen priority
@@ -1097,7 +1098,8 @@ class _PendingPairs:
             return list(self._pairs)
         live = [p for p in self._by_pairs() if p.alive]
         for p in live:
-            self._refresh(p)
+            if self._refresh(p):
+                self._push(p)  # its old entry may now be too good
         live.sort(key=lambda p: (p.key, p.seq))
         return live
 
@@ -1165,9 +1167,13 @@ class _PendingPairs:
                 t, pe, _new = ee[j]
             before = (ps[1] + pe[1], ps[2] + pe[2])
             if before != after:
-                # the key before this event and the seq it had then (evaluated when needed)
-                lazy = _LazySeq(self, pair.start, pair.end, pair.key, pair.seq, i0, j0, i, j)
-                pair.seq = (-t, before, lazy) if before < after else (t, before, lazy)
+                # the key before this event and the seq it had then: the current seq if no
+                # earlier event is unseen, else evaluated when needed (a tie in the same re-sort)
+                if i == i0 and j == j0:
+                    old = pair.seq
+                else:
+                    old = _LazySeq(self, pair.start, pair.end, pair.key, pair.seq, i0, j0, i, j)
+                pair.seq = (-t, before, old) if before < after else (t, before, old)
                 pair.key = after
                 pair.vs, pair.ve = ns, ne
                 return True
@@ -1195,21 +1201,32 @@ class _PendingPairs:
         return key, seq
 
     def _push(self, pair: _Pair) -> None:
-        entry = (pair.key, pair.seq, pair)
+        # a flat entry (-depth sum, cost sum, seq, pair): cheaper to compare than nested tuples
+        key = pair.key
+        entry = (key[0], key[1], pair.seq, pair)
         pair.entry = entry
         heappush(self._heap, entry)
+        self._front = None
 
     def _top(self) -> _Pair | None:
+        front = self._front
+        if front is not None:
+            return front  # nothing happened since it was found
         heap = self._heap
         while heap:
-            key, seq, pair = heap[0]
-            if pair.entry is not heap[0]:
+            entry = heap[0]
+            pair = entry[3]
+            if pair.entry is not entry:
                 heappop(heap)  # superseded or popped
                 continue
             if self._refresh(pair):
-                heappop(heap)
-                self._push(pair)
+                # one sift instead of a pop and a push
+                key = pair.key
+                entry = (key[0], key[1], pair.seq, pair)
+                pair.entry = entry
+                heapreplace(heap, entry)
                 continue
+            self._front = pair
             return pair
         return None
 
@@ -1220,6 +1237,7 @@ class _PendingPairs:
         self._known[state] = new
         if old is None or old == new:
             return
+        self._front = None
         self._t += 1
         events = self._events.get(state)
         if events is None:
@@ -1239,6 +1257,7 @@ class _PendingPairs:
             return
         pairs = self.ordered()
         self._fast = False
+        self._front = None
         self._heap = []
         self._events = {}
         self._known = {}
@@ -1314,9 +1333,16 @@ class _PendingPairs:
     def pop(self) -> _Pair:
         if self._fast:
             pair = self._top()
-            heappop(self._heap)
+            heap = self._heap
+            heappop(heap)
             pair.entry = None
+            self._front = None
             self._count -= 1
+            if len(heap) > 2 * self._count + 256:
+                # drop superseded entries (and the seqs they hold) that would otherwise
+                # stay until they surface; the live entries keep their order
+                heap = self._heap = [e for e in heap if e[3].entry is e]
+                heapify(heap)
         else:
             pair = self._pairs.pop(0)
             if self._sorted:
