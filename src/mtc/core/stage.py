@@ -1074,7 +1074,8 @@ class _PendingPairs:
         self._heap: list = []
         self._front: _Pair | None = None  # the verified front pair while nothing changes
         self._t = 0
-        self._events: dict[InterfaceState, list] = {}  # state -> [(t, old prio, new prio)]
+        # state -> [(t, old -depth, old cost, new -depth, new cost)]
+        self._events: dict[InterfaceState, list] = {}
         self._known: dict[InterfaceState, Priority] = {}  # state -> last seen priority
         self._count = 0
         self._pairs: list[_Pair] = []
@@ -1132,11 +1133,14 @@ class _PendingPairs:
                     del self._by_state[s]
 
     # --- fast mode --------------------------------------------------------------------------
-    def _prioAt(self, state: InterfaceState, version: int) -> Priority:
+    def _prioAt(self, state: InterfaceState, version: int) -> tuple:
+        """(-depth, cost) of ``state`` before its event number ``version`` (now if none)."""
         events = self._events.get(state)
         if events is not None and version < len(events):
-            return events[version][1]
-        return state._priority
+            e = events[version]
+            return e[1], e[2]
+        p = state._priority
+        return p[1], p[2]
 
     def _refresh(self, pair: _Pair) -> bool:
         """Apply the state changes not yet seen by ``pair``; True if its (key, seq) changed.
@@ -1156,16 +1160,17 @@ class _PendingPairs:
         # walk back from the current priorities to the last event that changed the key
         ps = pair.start._priority
         pe = pair.end._priority
-        after = (ps[1] + pe[1], ps[2] + pe[2])
+        sd, sc, ed, ec = ps[1], ps[2], pe[1], pe[2]
+        after = (sd + ed, sc + ec)
         i, j = ns, ne
         while i > i0 or j > j0:
             if j <= j0 or (i > i0 and es[i - 1][0] > ee[j - 1][0]):
                 i -= 1
-                t, ps, _new = es[i]
+                t, sd, sc, _d, _c = es[i]
             else:
                 j -= 1
-                t, pe, _new = ee[j]
-            before = (ps[1] + pe[1], ps[2] + pe[2])
+                t, ed, ec, _d, _c = ee[j]
+            before = (sd + ed, sc + ec)
             if before != after:
                 # the key before this event and the seq it had then: the current seq if no
                 # earlier event is unseen, else evaluated when needed (a tie in the same re-sort)
@@ -1184,16 +1189,16 @@ class _PendingPairs:
         """(key, seq) of the pair (start, end) after the events [i, ns) of its start and [j, ne) of its end."""
         es = self._events.get(start)
         ee = self._events.get(end)
-        ps = es[i][1] if i < ns else self._prioAt(start, ns)
-        pe = ee[j][1] if j < ne else self._prioAt(end, ne)
+        sd, sc = (es[i][1], es[i][2]) if i < ns else self._prioAt(start, ns)
+        ed, ec = (ee[j][1], ee[j][2]) if j < ne else self._prioAt(end, ne)
         while i < ns or j < ne:
             if j >= ne or (i < ns and es[i][0] < ee[j][0]):
-                t, _old, ps = es[i]
+                t, _d, _c, sd, sc = es[i]
                 i += 1
             else:
-                t, _old, pe = ee[j]
+                t, _d, _c, ed, ec = ee[j]
                 j += 1
-            new = _fast_key(ps, pe)
+            new = (sd + ed, sc + ec)
             if new != key:
                 # stable re-sort: worse keys go first among their new equals, better last
                 seq = (-t, key, seq) if key < new else (t, key, seq)
@@ -1239,11 +1244,13 @@ class _PendingPairs:
             return
         self._front = None
         self._t += 1
+        # numbers only, no Priority objects: such tuples are left alone by the cyclic GC
+        event = (self._t, old[1], old[2], new[1], new[2])
         events = self._events.get(state)
         if events is None:
-            self._events[state] = [(self._t, old, new)]
+            self._events[state] = [event]
         else:
-            events.append((self._t, old, new))
+            events.append(event)
         # depth decides first (larger is better), then cost (smaller is better)
         better = new[1] < old[1] or (new[1] == old[1] and new[2] < old[2])
         if better:

@@ -361,15 +361,29 @@ def state_of(direction: int, solution: "SolutionBase") -> InterfaceState:
 class SolutionBase:
     """Common part of all solutions: cost, comment, markers, start/end state and creator."""
 
-    __slots__ = ("_creator", "_cost", "_comment", "markers", "_start", "_end", "__weakref__")
+    __slots__ = ("_creator", "_cost", "_comment", "_markers", "_start", "_end", "__weakref__")
 
     def __init__(self, creator=None, cost: float = 0.0, comment: str = ""):
         self._creator = creator
         self._cost = float(cost)
         self._comment = comment
-        self.markers: list = []
+        self._markers: list | None = None  # created when first used
         self._start: InterfaceState | None = None
         self._end: InterfaceState | None = None
+
+    @property
+    def markers(self) -> list:
+        """Visualization markers (a list to append to)."""
+        # created on demand: most solutions have none, and every list kept per solution is
+        # one more object for the cyclic garbage collector to traverse again and again
+        m = self._markers
+        if m is None:
+            m = self._markers = []
+        return m
+
+    @markers.setter
+    def markers(self, value) -> None:
+        self._markers = list(value)
 
     @property
     def cost(self) -> float:
