@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import logging
 import sys
-from bisect import insort_right
+from bisect import bisect_right
 
 import numpy as np
 from collections.abc import Callable
@@ -55,6 +55,7 @@ from mtc.core.storage import (
     SolutionSequence,
     SubTrajectory,
     WrappedSolution,
+    _new_sequence,
     _new_tuple,
 )
 
@@ -355,18 +356,35 @@ class ContainerBase(Stage):
     def _updateStatePrios(self, direction: int, state: InterfaceState, prio: Priority) -> None:
         """Give ``state`` and the states behind it in ``direction`` the depth and cost of ``prio``."""
         d, c = prio[1], prio[2]
-        stack = [state]
-        while stack:
-            s = stack.pop()
+        forward = direction == FORWARD
+        # depth-first in successor order, as MTC's recursion: follow the first successor at
+        # once, keep the others on a stack (mostly there is just one: no stack at all)
+        stack = None
+        s = state
+        while True:
             old = s._priority
-            if old[1] == d and old[2] == c:
-                continue
-            s.updatePriority(_new_tuple(Priority, (old[0], d, c)))
-            successors = s.outgoing if direction == FORWARD else s.incoming
-            if successors:
-                # depth-first in successor order, as MTC's recursion
-                for sol in reversed(successors):
-                    stack.append(sol._end if direction == FORWARD else sol._start)
+            if old[1] != d or old[2] != c:
+                new = _new_tuple(Priority, (old[0], d, c))
+                # InterfaceState.updatePriority without its call: the status is kept, so its
+                # ARMED -> PRUNED guard never applies
+                owner = s._owner
+                if owner is not None:
+                    owner.updatePriority(s, new)
+                else:
+                    s._priority = new
+                successors = s.outgoing if forward else s.incoming
+                if successors:
+                    if len(successors) > 1:
+                        if stack is None:
+                            stack = []
+                        for sol in reversed(successors[1:]):
+                            stack.append(sol._end if forward else sol._start)
+                    sol = successors[0]
+                    s = sol._end if forward else sol._start
+                    continue
+            if not stack:
+                return
+            s = stack.pop()
 
     def _copyState(self, direction: int, external: InterfaceState, target: Interface, updated: int) -> None:
         if updated:
@@ -403,13 +421,28 @@ class ContainerBase(Stage):
         return external, True
 
     def _liftSolution(self, solution: SolutionBase, internal_from: InterfaceState, internal_to: InterfaceState) -> None:
-        self._computeCost(internal_from, internal_to, solution)
-        external_from, created_from = self._mapToExternal(internal_from)
-        external_to, created_to = self._mapToExternal(internal_to)
-        if not self._storeSolution(solution, external_from, external_to):
+        if self._cost_term is not None:
+            self._computeCost(internal_from, internal_to, solution)
+        # _mapToExternal's common case (a known state) inlined
+        i2e = self._internal_to_external
+        external_from = i2e.get(internal_from)
+        created_from = False
+        if external_from is None:
+            external_from, created_from = self._mapToExternal(internal_from)
+        external_to = i2e.get(internal_to)
+        created_to = False
+        if external_to is None:
+            external_to, created_to = self._mapToExternal(internal_to)
+        cost = solution._cost
+        if -INF < cost < INF:  # _storeSolution's success path, inlined
+            solution._creator = self
+            self._solutions.insert(solution)
+        elif not self._storeSolution(solution, external_from, external_to):
             return
-        solution._setStartState(external_from)
-        solution._setEndState(external_to)
+        solution._start = external_from
+        external_from.outgoing.append(solution)
+        solution._end = external_to
+        external_to.incoming.append(solution)
         if created_from:
             if self._prev_ends is None:
                 raise RuntimeError(f"container '{self._name}' has no previous stage to publish a start state to")
@@ -470,25 +503,35 @@ class SerialContainer(ContainerBase):
         incoming = _collect(BACKWARD, current)
         outgoing = _collect(FORWARD, current)
         nr = len(self._children)
-        mid = Priority(1, current._cost)
+        cost = current._cost
+        # the priority sum in_prio + Priority(1, cost) + out_prio, spelled out (same additions
+        # in the same order): the paths of _collect are ENABLED, so the status is the middle's
+        status = ENABLED if -INF < cost < INF else PRUNED
         sorted_solutions: list[SolutionSequence] = []
+        sorted_costs: list[float] = []
+        update = self._updateStatePrios
         for in_trace, in_prio in incoming:
-            left = in_prio + mid
+            left_depth = in_prio[1] - 1
+            left_cost = in_prio[2] + cost
             for out_trace, out_prio in outgoing:
-                prio = left + out_prio
-                depth = -prio[1]
-                if depth == nr:  # a complete solution from start to end
+                neg_depth = left_depth + out_prio[1]
+                total = left_cost + out_prio[2]
+                if neg_depth == -nr:  # a complete solution from start to end
                     subs = in_trace[::-1]
                     subs.append(current)
                     subs.extend(out_trace)
-                    seq = SolutionSequence(subs, prio[2], self)
-                    insort_right(sorted_solutions, seq)  # by cost, after equal ones
-                if depth > 1:
+                    # by cost, after equal ones
+                    i = bisect_right(sorted_costs, total)
+                    sorted_costs.insert(i, total)
+                    sorted_solutions.insert(i, _new_sequence(subs, total, self))
+                if neg_depth < -1:
                     # update state priorities along the whole partial solution path
-                    self._updateStatePrios(BACKWARD, current._start, prio)
-                    self._updateStatePrios(FORWARD, current._end, prio)
+                    prio = _new_tuple(Priority, (status, neg_depth, total))
+                    update(BACKWARD, current._start, prio)
+                    update(FORWARD, current._end, prio)
         for seq in sorted_solutions:
-            self._liftSolution(seq, seq.internalStart(), seq.internalEnd())
+            subs = seq._subsolutions
+            self._liftSolution(seq, subs[0]._start, subs[-1]._end)
 
     def _validateInterface(self, child: Stage, required: int, mask: int) -> None:
         required &= mask

@@ -70,6 +70,7 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 INF = math.inf
+_perf_counter = time.perf_counter
 
 # --- interface flags (MTC's InterfaceFlag) ------------------------------------------------
 UNKNOWN = 0
@@ -86,6 +87,7 @@ END_IF_MASK = READS_END | WRITES_NEXT_START
 
 FORWARD = Interface.FORWARD
 BACKWARD = Interface.BACKWARD
+_PRIORITY_CHANGE = Interface.PRIORITY
 
 
 def invert(flags: int) -> int:
@@ -495,13 +497,15 @@ class Stage(TypedPropertyAccess):
         preempt = self._preempt
         if preempt is not None and preempt.requested:
             raise PreemptStageError()
-        start = time.perf_counter()
+        start = _perf_counter()
         try:
             self._compute()
         except PropertyError as e:
             raise RuntimeError(str(e) + self._composePropertyErrorMsg(e.name)) from None
         finally:
-            self._total_compute_time += time.perf_counter() - start
+            # written through __dict__: a plain attribute write would go through
+            # TypedPropertyAccess.__setattr__, a Python call on this hot path
+            self.__dict__["_total_compute_time"] += _perf_counter() - start
 
     def _composePropertyErrorMsg(self, property_name: str) -> str:
         """Where ``property_name`` is (un)defined, from this stage up to the root (MTC's texts)."""
@@ -568,8 +572,10 @@ class Stage(TypedPropertyAccess):
 
     def _newSolution(self, solution: SolutionBase) -> None:
         # callbacks see successes and (stored) failures
-        for cb in self._solution_cbs:
-            cb(solution)
+        cbs = self._solution_cbs
+        if cbs:
+            for cb in cbs:
+                cb(solution)
         parent = self._parent
         if parent is not None:
             cost = solution._cost
@@ -634,11 +640,18 @@ class Stage(TypedPropertyAccess):
         self._newSolution(solution)
 
     def _connect(self, from_state: InterfaceState, to_state: InterfaceState, solution: SolutionBase) -> None:
-        self._computeCost(from_state, to_state, solution)
-        if not self._storeSolution(solution, from_state, to_state):
+        if self._cost_term is not None:
+            self._computeCost(from_state, to_state, solution)
+        cost = solution._cost
+        if -INF < cost < INF:  # _storeSolution's success path, inlined (hot in Connect-heavy tasks)
+            solution._creator = self
+            self._solutions.insert(solution)
+        elif not self._storeSolution(solution, from_state, to_state):
             return
-        solution._setStartState(from_state)
-        solution._setEndState(to_state)
+        solution._start = from_state
+        from_state.outgoing.append(solution)
+        solution._end = to_state
+        to_state.incoming.append(solution)
         self._newSolution(solution)
 
     # --- printing ----------------------------------------------------------------------------
@@ -1512,9 +1525,17 @@ class Connecting(ComputeBase):
 
     # --- state notifications (MTC's ConnectingPrivate::newState) ----------------------
     def _newStartState(self, state: InterfaceState, updated: int) -> None:
+        pending = self._pending
+        if updated == _PRIORITY_CHANGE and pending._fast and not self._starts._silent and not self._ends._silent:
+            pending._stateChanged(state)  # _newState's common case, without its call
+            return
         self._newState(BACKWARD, state, updated)
 
     def _newEndState(self, state: InterfaceState, updated: int) -> None:
+        pending = self._pending
+        if updated == _PRIORITY_CHANGE and pending._fast and not self._starts._silent and not self._ends._silent:
+            pending._stateChanged(state)  # _newState's common case, without its call
+            return
         self._newState(FORWARD, state, updated)
 
     def _newState(self, direction: int, state: InterfaceState, updated: int) -> None:

@@ -520,6 +520,26 @@ class SolutionSequence(SolutionBase):
             s._leaves(out)
 
 
+_object_new = object.__new__
+
+
+def _new_sequence(subsolutions: list, cost: float, creator) -> SolutionSequence:
+    """``SolutionSequence(subsolutions, cost, creator)`` taking ``subsolutions`` as is (no copy).
+
+    For the serial container's solution lifting, which builds a fresh list and a float cost
+    for every solution: this skips two ``__init__`` calls, a list copy and a float().
+    """
+    s = _object_new(SolutionSequence)
+    s._creator = creator
+    s._cost = cost
+    s._comment = ""
+    s._markers = None
+    s._start = None
+    s._end = None
+    s._subsolutions = subsolutions
+    return s
+
+
 class WrappedSolution(SolutionBase):
     """A solution wrapping one child solution (parallel containers and wrappers).
 
