@@ -45,13 +45,22 @@ _SAME_POINT = 1e-9
 # messages
 
 
+def markers_of(solution: SolutionBase) -> list:
+    """A solution's markers, without creating the list solutions make on first use."""
+    try:
+        markers = solution._markers
+    except AttributeError:  # a solution class that keeps a plain list
+        return solution.markers
+    return [] if markers is None else markers
+
+
 def _fill_info(info: msgs.SolutionInfo, solution: SolutionBase, introspection) -> None:
     info.id = introspection.solutionId(solution) if introspection is not None else 0
     info.cost = float(solution.cost)
     info.comment = solution.comment
     creator = solution.creator
     info.stage_id = introspection.stageId(creator) if introspection is not None and creator is not None else 0
-    info.markers = list(solution.markers)
+    info.markers = list(markers_of(solution))
 
 
 def _scene_msg(scene, cache: dict) -> msgs.PlanningScene:

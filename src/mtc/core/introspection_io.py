@@ -39,6 +39,7 @@ from typing import Any
 import numpy as np
 
 from mtc import msgs
+from mtc.core.export import markers_of
 from mtc.core.storage import SolutionBase, SolutionSequence, SubTrajectory, WrappedSolution
 
 __all__ = ["FORMAT", "VERSION", "IntrospectionData", "load", "save", "snapshot"]
@@ -257,8 +258,9 @@ def snapshot(task, introspection=None, contents: bool = True) -> dict[str, Any]:
                 entry["children"] = [solution_id(p) for p in parts]
             if isinstance(s, SubTrajectory) and s.trajectory is not None:
                 entry["trajectory"] = _trajectory(s.trajectory, blob)
-            if s.markers:
-                entry["markers"] = _plain(s.markers)
+            markers = markers_of(s)
+            if markers:
+                entry["markers"] = _plain(markers)
             table[sid] = entry
     return {
         "format": FORMAT,
