@@ -43,6 +43,7 @@ from mtc.core.storage import (
     SolutionBase,
     Solutions,
     SubTrajectory,
+    _new_tuple,
 )
 
 __all__ = [
@@ -973,7 +974,7 @@ class PropagatingBackward(PropagatingEitherWay):
 class _Pair:
     """A pending (start, end) pair of a Connecting stage."""
 
-    __slots__ = ("start", "end", "key", "seq", "entry", "vs", "ve", "alive")
+    __slots__ = ("start", "end", "key", "seq", "entry", "vs", "ve", "es", "ee", "alive")
 
     def __init__(self, start: InterfaceState, end: InterfaceState):
         self.start = start
@@ -981,8 +982,10 @@ class _Pair:
         self.key = None
         self.seq = None
         self.entry = None
-        self.vs = 0
+        self.vs = 0  # number of events of start (end) seen by key and seq (fast mode)
         self.ve = 0
+        self.es = None  # the event lists of start and end (fast mode)
+        self.ee = None
         self.alive = True
 
     def __iter__(self):
@@ -1007,26 +1010,23 @@ def _key_of(a: Priority, b: Priority) -> tuple:
     return (0 if sa == 0 and sb == 0 else 1, sa if sa < sb else sb, a[1] + b[1], a[2] + b[2])
 
 
-class _LazySeq:
+class _LazySeq(tuple):
     """The order key a pending pair had before its last move, computed only when compared.
 
-    Compared only between pairs moved in the same re-sort to equal keys (ties).
+    Compared only between pairs moved in the same re-sort to equal keys (ties), which is
+    rare, while one is made for most moves: so it is a tuple subclass, built by
+    ``tuple.__new__`` in C without a Python ``__init__`` call. Its items are the arguments
+    of :func:`_replay`: ``(es, ee, start, end, key, seq, i0, j0, i, j)`` (the pair's states,
+    not the pair: pair -> seq -> this -> pair would be a reference cycle, left for the slow
+    full garbage collection). The value is cached in the instance ``__dict__`` once computed.
     """
 
-    __slots__ = ("_args", "_value")
-
-    def __init__(self, pending, start, end, key, seq, i0, j0, i, j):
-        # the pair's states, not the pair: pair -> seq -> this -> pair would be a reference
-        # cycle, left for the (slow, full) cyclic garbage collection once the pair is done
-        self._args = (pending, start, end, key, seq, i0, j0, i, j)
-        self._value = None
-
     def value(self):
-        if self._args is not None:
-            pending, start, end, key, seq, i0, j0, i, j = self._args
-            self._value = pending._replay(start, end, key, seq, i0, j0, i, j)[1]
-            self._args = None
-        return self._value
+        d = self.__dict__
+        v = d.get("v")
+        if v is None:
+            v = d["v"] = _replay(*self)[1]
+        return v
 
     # the other side may be a materialized seq (a tuple) from a replay
     def __eq__(self, other):
@@ -1054,6 +1054,35 @@ def _fast_key(a: Priority, b: Priority) -> tuple:
 
 def _seq_value(seq):
     return seq.value() if isinstance(seq, _LazySeq) else seq
+
+
+def _prio_at(events: list, state: InterfaceState, version: int) -> tuple:
+    """(-depth, cost) of ``state`` before its event number ``version`` (now if none)."""
+    if version < len(events):
+        e = events[version]
+        return e[1], e[2]
+    p = state._priority
+    return p[1], p[2]
+
+
+def _replay(es: list, ee: list, start: InterfaceState, end: InterfaceState, key, seq, i: int, j: int,
+            ns: int, ne: int):
+    """(key, seq) of the pair (start, end) after the events [i, ns) of its start and [j, ne) of its end."""
+    sd, sc = _prio_at(es, start, i)
+    ed, ec = _prio_at(ee, end, j)
+    while i < ns or j < ne:
+        if j >= ne or (i < ns and es[i][0] < ee[j][0]):
+            t, _d, _c, sd, sc = es[i]
+            i += 1
+        else:
+            t, _d, _c, ed, ec = ee[j]
+            j += 1
+        new = (sd + ed, sc + ec)
+        if new != key:
+            # stable re-sort: worse keys go first among their new equals, better last
+            seq = (-t, key, seq) if key < new else (t, key, seq)
+            key = new
+    return key, seq
 
 
 class _PendingPairs:
@@ -1146,15 +1175,6 @@ class _PendingPairs:
                     del self._by_state[s]
 
     # --- fast mode --------------------------------------------------------------------------
-    def _prioAt(self, state: InterfaceState, version: int) -> tuple:
-        """(-depth, cost) of ``state`` before its event number ``version`` (now if none)."""
-        events = self._events.get(state)
-        if events is not None and version < len(events):
-            e = events[version]
-            return e[1], e[2]
-        p = state._priority
-        return p[1], p[2]
-
     def _refresh(self, pair: _Pair) -> bool:
         """Apply the state changes not yet seen by ``pair``; True if its (key, seq) changed.
 
@@ -1163,11 +1183,12 @@ class _PendingPairs:
         only breaks ties within the same re-sort, so it is kept as a lazily evaluated
         :class:`_LazySeq`.
         """
-        es = self._events.get(pair.start)
-        ee = self._events.get(pair.end)
-        ns = len(es) if es is not None else 0
-        ne = len(ee) if ee is not None else 0
-        i0, j0 = pair.vs, pair.ve
+        es = pair.es
+        ee = pair.ee
+        ns = len(es)
+        ne = len(ee)
+        i0 = pair.vs
+        j0 = pair.ve
         if i0 == ns and j0 == ne:
             return False
         # walk back from the current priorities to the last event that changed the key
@@ -1190,33 +1211,13 @@ class _PendingPairs:
                 if i == i0 and j == j0:
                     old = pair.seq
                 else:
-                    old = _LazySeq(self, pair.start, pair.end, pair.key, pair.seq, i0, j0, i, j)
+                    old = _new_tuple(_LazySeq, (es, ee, pair.start, pair.end, pair.key, pair.seq, i0, j0, i, j))
                 pair.seq = (-t, before, old) if before < after else (t, before, old)
                 pair.key = after
                 pair.vs, pair.ve = ns, ne
                 return True
         pair.vs, pair.ve = ns, ne
         return False
-
-    def _replay(self, start: InterfaceState, end: InterfaceState, key, seq, i: int, j: int, ns: int, ne: int):
-        """(key, seq) of the pair (start, end) after the events [i, ns) of its start and [j, ne) of its end."""
-        es = self._events.get(start)
-        ee = self._events.get(end)
-        sd, sc = (es[i][1], es[i][2]) if i < ns else self._prioAt(start, ns)
-        ed, ec = (ee[j][1], ee[j][2]) if j < ne else self._prioAt(end, ne)
-        while i < ns or j < ne:
-            if j >= ne or (i < ns and es[i][0] < ee[j][0]):
-                t, _d, _c, sd, sc = es[i]
-                i += 1
-            else:
-                t, _d, _c, ed, ec = ee[j]
-                j += 1
-            new = (sd + ed, sc + ec)
-            if new != key:
-                # stable re-sort: worse keys go first among their new equals, better last
-                seq = (-t, key, seq) if key < new else (t, key, seq)
-                key = new
-        return key, seq
 
     def _push(self, pair: _Pair) -> None:
         # a flat entry (-depth sum, cost sum, seq, pair): cheaper to compare than nested tuples
@@ -1261,7 +1262,7 @@ class _PendingPairs:
         event = (self._t, old[1], old[2], new[1], new[2])
         events = self._events.get(state)
         if events is None:
-            self._events[state] = [event]
+            self._events[state] = [event]  # (no pair holds its list yet)
         else:
             events.append(event)
         # depth decides first (larger is better), then cost (smaller is better)
@@ -1311,10 +1312,17 @@ class _PendingPairs:
             self._t += 1
             pair.key = _fast_key(start._priority, end._priority)
             pair.seq = (self._t,)  # after all equal pairs
-            es = self._events.get(start)
-            ee = self._events.get(end)
-            pair.vs = len(es) if es is not None else 0
-            pair.ve = len(ee) if ee is not None else 0
+            events = self._events
+            es = events.get(start)
+            if es is None:
+                es = events[start] = []
+            ee = events.get(end)
+            if ee is None:
+                ee = events[end] = []
+            pair.es = es
+            pair.ee = ee
+            pair.vs = len(es)
+            pair.ve = len(ee)
             self._push(pair)
             self._count += 1
         elif self._sorted:
