@@ -311,6 +311,11 @@ class _EdgeChecker:
         self._collision_free = scene.state_validity_checker(group.name)
         self._constraints = None if constraints is None or constraints.empty else constraints
         self._idx = group.variable_indices
+        idx = self._idx
+        if len(idx) and np.array_equal(idx, np.arange(idx[0], idx[0] + len(idx))):
+            self._cols = slice(int(idx[0]), int(idx[0]) + len(idx))  # contiguous: a cheap slice
+        else:
+            self._cols = idx
         self._base = np.array(base, dtype=float)
         # mimic followers only need updating when the group moves one of their masters
         self._mimic = any(master in set(self._idx.tolist()) for _, master, *_ in model.mimic_followers)
@@ -352,7 +357,7 @@ class _EdgeChecker:
 
     def segments(self, a: np.ndarray, b: np.ndarray) -> int:
         """Number of (fine) segments an edge is checked and interpolated in."""
-        d = float(np.max(np.abs(b - a))) if a.size else 0.0
+        d = float(np.abs(b - a).max()) if a.size else 0.0
         return max(1, math.ceil(d / self.coarse - 1e-9)) * self.ratio
 
     _order = staticmethod(_bisection_order)
@@ -361,7 +366,7 @@ class _EdgeChecker:
         t0 = time.perf_counter()
         # all states of the edge in one numpy operation; checked one by one, blocked early out
         Q = np.repeat(self._base[None, :], len(t), axis=0)
-        Q[:, self._idx] = a + t[:, None] * (b - a)
+        Q[:, self._cols] = a + t[:, None] * (b - a)
         if self._mimic:
             self._model.enforce_mimic(Q)
         ok = True
