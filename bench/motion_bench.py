@@ -319,8 +319,21 @@ def print_kinematics(out=sys.stdout) -> None:
             result = fn()
         except TypeError:
             continue  # needs arguments this script does not know
-        if result is not None:
+        if isinstance(result, dict):
+            print(f"\n{name} (bench/kinematics_bench.py)\n\n| quantity | value |\n|---|---|", file=out)
+            for key, value in _flatten(result):
+                shown = f"{value:.4g}" if isinstance(value, float) else str(value)
+                print(f"| {key} | {shown} |", file=out)
+        elif result is not None:
             print(f"\n{name}: {result}", file=out)
+
+
+def _flatten(d: dict, prefix: str = ""):
+    for key, value in d.items():
+        if isinstance(value, dict):
+            yield from _flatten(value, f"{prefix}{key}.")
+        else:
+            yield f"{prefix}{key}", value
 
 
 def main(argv: Sequence[str] | None = None) -> None:
