@@ -229,10 +229,10 @@ def test_publish_without_viewer_is_quiet(panda_task, monkeypatch):
 
 
 def test_current_scene_after_execute_equals_exported_end_scene(panda_task):
-    from mtc.core.export import solution_to_msg
+    from mtc.core.export import end_scenes, solution_to_msg
 
     solution = panda_task.solutions[0]
     msg = solution_to_msg(solution)
     assert execute(solution)
     # what a consumer of the message would end up with is what execute() left behind
-    assert mtc.current_scene().get_planning_scene_msg() == msg.sub_trajectory[-1].scene_diff
+    assert mtc.current_scene().get_planning_scene_msg() == end_scenes(msg)[-1]

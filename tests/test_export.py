@@ -14,6 +14,7 @@ import mtc
 from mtc import core, msgs, stages
 from mtc.core.execution import flatten
 from mtc.core.export import (
+    end_scenes,
     solution_arrays,
     solution_from_json,
     solution_to_dict,
@@ -96,17 +97,74 @@ def test_msg_scenes(panda_task):
     assert msg.start_scene.robot_state.attached_collision_objects == []
     # the generator's segment starts and ends in the same scene: an empty diff (MTC #638)
     assert leaves[0].start.scene is leaves[0].end.scene
-    assert msg.sub_trajectory[0].scene_diff == msgs.PlanningScene(is_diff=True)
-    # the attach segment: the full end scene with the box attached to the hand
+    empty = msgs.PlanningScene(is_diff=True, robot_state=msgs.RobotState(is_diff=True))
+    assert msg.sub_trajectory[0].scene_diff == empty
+    # attaching: the box leaves the world and hangs on the hand; nothing else is listed
     attach = msg.sub_trajectory[1].scene_diff
-    assert not attach.is_diff
-    assert attach.world.collision_objects == []
-    assert [a.object.id for a in attach.robot_state.attached_collision_objects] == ["box"]
-    assert attach.robot_state.attached_collision_objects[0].link_name == "panda_hand"
-    # the move's end scene has the arm at its last waypoint
-    end = msg.sub_trajectory[2].scene_diff.robot_state.joint_state
+    assert attach.is_diff and attach.robot_state.is_diff
+    assert [(o.id, o.operation) for o in attach.world.collision_objects] == [("box", msgs.CollisionObject.REMOVE)]
+    hanging = [(a.link_name, a.object.id, a.object.operation) for a in attach.robot_state.attached_collision_objects]
+    assert hanging == [("panda_hand", "box", msgs.CollisionObject.ADD)]
+    assert attach.allowed_collision_matrix == msgs.AllowedCollisionMatrix()  # unchanged
+    # the move: only the robot state changes
+    move = msg.sub_trajectory[2].scene_diff
+    assert move.is_diff and move.world.collision_objects == [] and move.robot_state.attached_collision_objects == []
+    end = move.robot_state.joint_state
     last = dict(zip(end.name, end.position))
     np.testing.assert_allclose([last[n] for n in ARM], leaves[2].trajectory.positions[-1])
+    # applying the diffs in order gives every segment's full end scene
+    full = end_scenes(msg)
+    assert len(full) == 4
+    for scene, leaf in zip(full, leaves):
+        assert scene == leaf.end.scene.get_planning_scene_msg()
+
+
+def test_msg_detach_and_allowed_collisions():
+    mtc.reset_current_scene()
+    try:
+        psi = mtc.PlanningSceneInterface()
+        # held well in front of the fingers, so it is free once detached
+        pose = msgs.PoseStamped(
+            header=msgs.Header(frame_id="panda_hand"),
+            pose=msgs.Pose(position=msgs.Point(z=0.25), orientation=msgs.Quaternion(w=1.0)),
+        )
+        psi.attach_box("panda_hand", "held", pose, size=(0.02, 0.02, 0.02))
+        task = core.Task()
+        task.setRobotModel(mtc.robots.panda())
+        task.add(stages.CurrentState("current"))
+        release = stages.ModifyPlanningScene("release")
+        release.detachObject("held", "panda_hand")
+        release.allowCollisions("held", ["panda_leftfinger", "panda_rightfinger"], True)
+        task.add(release)
+        assert task.plan()
+    finally:
+        mtc.reset_current_scene()
+    solution = task.solutions[0]
+    msg = solution_to_msg(solution)
+    diff = msg.sub_trajectory[1].scene_diff
+    assert diff.is_diff
+    assert [(a.object.id, a.object.operation) for a in diff.robot_state.attached_collision_objects] == [
+        ("held", msgs.CollisionObject.REMOVE)
+    ]
+    assert [(o.id, o.operation) for o in diff.world.collision_objects] == [("held", msgs.CollisionObject.ADD)]
+    assert "held" in diff.allowed_collision_matrix.entry_names
+    leaves = flatten(solution)
+    assert end_scenes(msg)[1] == leaves[1].end.scene.get_planning_scene_msg()
+
+
+def test_backward_segment_carries_full_scene():
+    task = mockups.make_task()
+    task.add(mockups.BackwardMockup([10.0]))
+    task.add(mockups.GeneratorMockup([1.0]))
+    task.add(mockups.ForwardMockup([100.0]))
+    assert task.plan()
+    msg = solution_to_msg(task.solutions[0])
+    # backward: the start scene derives from the end one, so the end is sent whole
+    assert [s.scene_diff.is_diff for s in msg.sub_trajectory] == [False, True, True]
+    leaves = flatten(task.solutions[0])
+    assert msg.start_scene == leaves[0].start.scene.get_planning_scene_msg()
+    for scene, leaf in zip(end_scenes(msg), leaves):
+        assert scene == leaf.end.scene.get_planning_scene_msg()
 
 
 def test_msg_ids_from_introspection(panda_task):

@@ -2,10 +2,11 @@
 
 :func:`solution_to_msg` follows MTC's ``SolutionBase::toMsg`` (semantics §1.4): one
 ``SubTrajectory`` message per leaf in execution order, ``SubSolution`` messages for the
-containers' solutions, ids from the task's introspection (0 without one). A generator's
-segment (start and end share their scene) carries an empty diff (MTC's fix of duplicate
-scenes, #638); any other segment carries its full end scene (``is_diff`` False), so every
-message can be applied on its own.
+containers' solutions, ids from the task's introspection (0 without one). Each segment's
+``scene_diff`` is, as in MTC: empty for a generator's segment (start and end share their
+scene, #638); the changes from start to end where the end scene was derived from the start
+scene (``is_diff`` True, see :func:`apply_scene_diff`); otherwise the full end scene.
+:func:`end_scenes` turns them back into the full scene after every segment.
 
 :func:`solution_arrays` turns a solution into plain arrays per joint: ``times``,
 ``positions``, ``velocities`` (and ``accelerations`` when every segment has them), per
@@ -15,6 +16,7 @@ controller's joint-trajectory interface takes.
 
 from __future__ import annotations
 
+import copy
 import json
 import os
 from dataclasses import dataclass, field
@@ -28,6 +30,8 @@ from mtc.core.storage import SolutionBase, SolutionSequence, SubTrajectory, Wrap
 
 __all__ = [
     "SolutionArrays",
+    "apply_scene_diff",
+    "end_scenes",
     "TrajectoryArrays",
     "solution_arrays",
     "solution_from_json",
@@ -72,6 +76,101 @@ def _scene_msg(scene, cache: dict) -> msgs.PlanningScene:
     return hit[1]
 
 
+def _scene_diff(start, end) -> msgs.PlanningScene:
+    """What changed from scene ``start`` to scene ``end`` (``is_diff`` True).
+
+    The robot state is complete (all joints); objects appear only where they changed: new or
+    changed ones in full (operation ADD), removed ones by id with operation REMOVE (world
+    objects that got attached are removed from the world and added to the robot). The
+    allowed collision matrix is sent whole if it changed, else left empty.
+    """
+    REMOVE = msgs.CollisionObject.REMOVE
+    diff = msgs.PlanningScene(name=end.name, robot_model_name=end.robot_model.name, is_diff=True)
+    state = end.get_robot_state_msg()
+    state.is_diff = True
+    before = {n: start.get_attached_collision_object_msg(n) for n in start.attached_object_names}
+    after = {a.object.id: a for a in state.attached_collision_objects}
+    state.attached_collision_objects = [
+        msgs.AttachedCollisionObject(link_name=a.link_name, object=msgs.CollisionObject(id=n, operation=REMOVE))
+        for n, a in before.items()
+        if n not in after
+    ] + [a for n, a in after.items() if before.get(n) != a]
+    diff.robot_state = state
+    world_before = {n: start.get_collision_object_msg(n) for n in start.world_object_names}
+    world_after = {n: end.get_collision_object_msg(n) for n in end.world_object_names}
+    diff.world.collision_objects = [
+        msgs.CollisionObject(id=n, header=o.header, operation=REMOVE)
+        for n, o in world_before.items()
+        if n not in world_after
+    ] + [o for n, o in world_after.items() if world_before.get(n) != o]
+    acm_start, acm_end = start.allowed_collision_matrix, end.allowed_collision_matrix
+    if acm_start.token is not acm_end.token:  # equal tokens: equal contents (collision_matrix.py)
+        acm = acm_end.to_msg()
+        if acm != acm_start.to_msg():
+            diff.allowed_collision_matrix = acm
+    return diff
+
+
+def _empty_diff() -> msgs.PlanningScene:
+    return msgs.PlanningScene(is_diff=True, robot_state=msgs.RobotState(is_diff=True))
+
+
+def apply_scene_diff(scene: msgs.PlanningScene, diff: msgs.PlanningScene) -> msgs.PlanningScene:
+    """The full scene message after applying ``diff`` (as :func:`solution_to_msg` writes
+    them) to the full scene message ``scene``; a ``diff`` that is no diff is returned as is.
+
+    Joint positions are overwritten by name, objects added, replaced (in place) or removed
+    by id, and a non-empty allowed collision matrix replaces the old one.
+    """
+    if not diff.is_diff:
+        return copy.deepcopy(diff)
+    out = copy.deepcopy(scene)
+    if diff.name:
+        out.name = diff.name
+    js, djs = out.robot_state.joint_state, diff.robot_state.joint_state
+    index = {n: i for i, n in enumerate(js.name)}
+    for name, value in zip(djs.name, djs.position):
+        if name in index:
+            js.position[index[name]] = value
+        else:
+            js.name.append(name)
+            js.position.append(value)
+    REMOVE = msgs.CollisionObject.REMOVE
+
+    def merge(items: list, changes: list, key) -> list:
+        items = list(items)
+        for change in changes:
+            ids = [key(i) for i in items]
+            k = ids.index(key(change)) if key(change) in ids else None
+            if (change.object.operation if hasattr(change, "object") else change.operation) == REMOVE:
+                if k is not None:
+                    del items[k]
+            elif k is None:
+                items.append(copy.deepcopy(change))
+            else:
+                items[k] = copy.deepcopy(change)
+        return items
+
+    out.robot_state.attached_collision_objects = merge(
+        out.robot_state.attached_collision_objects, diff.robot_state.attached_collision_objects, lambda a: a.object.id
+    )
+    out.world.collision_objects = merge(out.world.collision_objects, diff.world.collision_objects, lambda o: o.id)
+    if diff.allowed_collision_matrix != msgs.AllowedCollisionMatrix():
+        out.allowed_collision_matrix = copy.deepcopy(diff.allowed_collision_matrix)
+    return out
+
+
+def end_scenes(solution_msg: msgs.Solution) -> list[msgs.PlanningScene]:
+    """The full scene after each sub-trajectory of a solution message, diffs applied in order
+    from ``start_scene``."""
+    scenes = []
+    scene = solution_msg.start_scene
+    for sub in solution_msg.sub_trajectory:
+        scene = apply_scene_diff(scene, sub.scene_diff)
+        scenes.append(scene)
+    return scenes
+
+
 def _append_leaf(leaf: SubTrajectory, msg: msgs.Solution, introspection, cache: dict) -> None:
     sub = msgs.SubTrajectory()
     _fill_info(sub.info, leaf, introspection)
@@ -84,8 +183,10 @@ def _append_leaf(leaf: SubTrajectory, msg: msgs.Solution, introspection, cache: 
     end = leaf.end.scene if leaf.end is not None else None
     if end is not None:
         if end is start:
-            sub.scene_diff = msgs.PlanningScene(is_diff=True)  # nothing changed (generators)
-        else:
+            sub.scene_diff = _empty_diff()  # nothing changed (generators, MTC #638)
+        elif start is not None and getattr(end, "parent", None) is start:
+            sub.scene_diff = _scene_diff(start, end)
+        else:  # e.g. backward propagation: the start derives from the end
             sub.scene_diff = _scene_msg(end, cache)
     msg.sub_trajectory.append(sub)
 
