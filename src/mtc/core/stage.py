@@ -1080,7 +1080,7 @@ def _replay(es: list, ee: list, start: InterfaceState, end: InterfaceState, key,
         new = (sd + ed, sc + ec)
         if new != key:
             # stable re-sort: worse keys go first among their new equals, better last
-            seq = (-t, key, seq) if key < new else (t, key, seq)
+            seq = (-t, key[0], key[1], seq) if key < new else (t, key[0], key[1], seq)
             key = new
     return key, seq
 
@@ -1123,7 +1123,8 @@ class _PendingPairs:
         self._pairs: list[_Pair] = []
         self._keys: list[tuple] = []
         self._sorted = True
-        self._by_state: dict[InterfaceState, list[_Pair]] = {}
+        # state -> its pairs in insertion order (a dict as an ordered set: O(1) removal)
+        self._by_state: dict[InterfaceState, dict[_Pair, None]] = {}
         self._foreign = False
 
     #: use the fast mode when possible (tests switch it off to compare both modes)
@@ -1148,8 +1149,8 @@ class _PendingPairs:
 
     def _by_pairs(self):
         seen = set()
-        for lst in self._by_state.values():
-            for p in lst:
+        for pairs in self._by_state.values():
+            for p in pairs:
                 if id(p) not in seen:
                     seen.add(id(p))
                     yield p
@@ -1157,22 +1158,20 @@ class _PendingPairs:
     def _register(self, pair: _Pair) -> None:
         by = self._by_state
         for s in (pair.start, pair.end):
-            lst = by.get(s)
-            if lst is None:
-                by[s] = [pair]
+            pairs = by.get(s)
+            if pairs is None:
+                by[s] = {pair: None}
             else:
-                lst.append(pair)
+                pairs[pair] = None
 
     def _unregister(self, pair: _Pair) -> None:
+        by = self._by_state
         for s in (pair.start, pair.end):
-            lst = self._by_state.get(s)
-            if lst is not None:
-                try:
-                    lst.remove(pair)
-                except ValueError:
-                    pass
-                if not lst:
-                    del self._by_state[s]
+            pairs = by.get(s)
+            if pairs is not None:
+                pairs.pop(pair, None)
+                if not pairs:
+                    del by[s]
 
     # --- fast mode --------------------------------------------------------------------------
     def _refresh(self, pair: _Pair) -> bool:
@@ -1195,7 +1194,8 @@ class _PendingPairs:
         ps = pair.start._priority
         pe = pair.end._priority
         sd, sc, ed, ec = ps[1], ps[2], pe[1], pe[2]
-        after = (sd + ed, sc + ec)
+        ad = sd + ed  # the key now: (ad, ac)
+        ac = sc + ec
         i, j = ns, ne
         while i > i0 or j > j0:
             if j <= j0 or (i > i0 and es[i - 1][0] > ee[j - 1][0]):
@@ -1204,19 +1204,22 @@ class _PendingPairs:
             else:
                 j -= 1
                 t, ed, ec, _d, _c = ee[j]
-            before = (sd + ed, sc + ec)
-            if before != after:
-                # the key before this event and the seq it had then: the current seq if no
-                # earlier event is unseen, else evaluated when needed (a tie in the same re-sort)
+            bd = sd + ed  # the key before this event: (bd, bc)
+            bc = sc + ec
+            if bd != ad or bc != ac:
+                # the seq it had then: the current seq if no earlier event is unseen, else
+                # evaluated when needed (a tie in the same re-sort)
                 if i == i0 and j == j0:
                     old = pair.seq
                 else:
                     old = _new_tuple(_LazySeq, (es, ee, pair.start, pair.end, pair.key, pair.seq, i0, j0, i, j))
-                pair.seq = (-t, before, old) if before < after else (t, before, old)
-                pair.key = after
-                pair.vs, pair.ve = ns, ne
+                pair.seq = (-t, bd, bc, old) if bd < ad or (bd == ad and bc < ac) else (t, bd, bc, old)
+                pair.key = (ad, ac)
+                pair.vs = ns
+                pair.ve = ne
                 return True
-        pair.vs, pair.ve = ns, ne
+        pair.vs = ns
+        pair.ve = ne
         return False
 
     def _push(self, pair: _Pair) -> None:
