@@ -7,7 +7,6 @@ It can be saved to and loaded from JSON. (The browser inspector builds on it.)
 
 from __future__ import annotations
 
-import json
 import sys
 from typing import Any
 
@@ -39,6 +38,7 @@ class Introspection:
 
     def __init__(self, task=None):
         self._task = task
+        self._loaded = None  # IntrospectionData read by load()
         self._stage_ids: dict[int, int] = {}
         self._solution_ids: dict[int, int] = {}
         self._solutions: list = []  # keep registered solutions alive so their ids stay unique
@@ -103,46 +103,40 @@ class Introspection:
         self.stages = stages
 
     def to_dict(self) -> dict[str, Any]:
-        """The snapshot as plain data."""
-        return {"stages": self.stages}
+        """The snapshot as plain, strict-JSON data (format: ``mtc.core.introspection_io``): the
+        stage tree, every solution (parts, trajectories, scenes) and failure."""
+        from mtc.core import introspection_io
+
+        if self._task is None:
+            return self._loaded.to_dict() if self._loaded is not None else {"stages": self.stages}
+        return introspection_io.snapshot(self._task, self)
 
     def save(self, path) -> None:
-        """Write the snapshot as JSON (infinite costs as the string "inf")."""
+        """Write the tree, solutions (with trajectories and scenes) and failures as JSON."""
+        from mtc.core import introspection_io
 
-        def fix(obj):
-            if isinstance(obj, float) and obj != obj:
-                return "nan"
-            if isinstance(obj, float) and obj in (float("inf"), float("-inf")):
-                return "inf" if obj > 0 else "-inf"
-            if isinstance(obj, dict):
-                return {k: fix(v) for k, v in obj.items()}
-            if isinstance(obj, list):
-                return [fix(v) for v in obj]
-            return obj
-
-        with open(path, "w", encoding="utf-8") as f:
-            json.dump(fix(self.to_dict()), f, indent=1)
+        introspection_io.save(self.to_dict(), path)
 
     @classmethod
     def load(cls, path) -> "Introspection":
-        """Read a snapshot written by :meth:`save`."""
-        with open(path, encoding="utf-8") as f:
-            data = json.load(f)
-        if not isinstance(data, dict) or "stages" not in data:
-            raise ValueError(f"{path}: not an mtc introspection file (no 'stages')")
+        """Read a file written by :meth:`save`."""
+        from mtc.core import introspection_io
 
-        def unfix(info):
-            c = info.get("cost")
-            if isinstance(c, str):
-                info["cost"] = float(c)
-            return info
-
+        data = introspection_io.load(path)
         obj = cls(None)
-        for st in data["stages"]:
-            st["solutions"] = [unfix(s) for s in st.get("solutions", [])]
-            st["failures"] = [unfix(s) for s in st.get("failures", [])]
-        obj.stages = data["stages"]
+        obj._loaded = data
+        obj.stages = data.stages
         return obj
+
+    @property
+    def data(self):
+        """Look-ups for the inspector (``IntrospectionData``: solution(), leaves(),
+        trajectory(), scene_msg()): the loaded data, or a fresh snapshot of the live task."""
+        from mtc.core.introspection_io import IntrospectionData
+
+        if self._task is None:
+            return self._loaded if self._loaded is not None else IntrospectionData.from_dict({"stages": self.stages})
+        return IntrospectionData.from_dict(self.to_dict())
 
 
 def solution_to_msg(solution, introspection=None):

@@ -31,11 +31,12 @@ class MoveItErrorCode:
     FAILURE = 99999
     PLANNING_FAILED = -1
     INVALID_MOTION_PLAN = -2
+    CONTROL_FAILED = -4
     TIMED_OUT = -6
     PREEMPTED = -7
 
     _NAMES = {1: "SUCCESS", 99999: "FAILURE", -1: "PLANNING_FAILED", -2: "INVALID_MOTION_PLAN",
-              -6: "TIMED_OUT", -7: "PREEMPTED"}
+              -4: "CONTROL_FAILED", -6: "TIMED_OUT", -7: "PREEMPTED"}
 
     __slots__ = ("val",)
 
@@ -353,8 +354,32 @@ class Task(WrapperBase):
         out.write("Failing stage(s):\n")
         return self._children[0].explainFailure(out)
 
+    def execute(self, solution: SolutionBase, callback=None, start_tolerance: float | None = 0.01) -> MoveItErrorCode:
+        """Play a solution on the current scene: its robot motion and scene changes become the
+        current scene (``mtc.current_scene()``), segment by segment.
+
+        Args:
+            solution: A solution of this task (e.g. ``task.solutions[0]``).
+            callback: ``callback(sub_trajectory, index, count)`` per segment, e.g. to drive a
+                real controller; returning ``False`` aborts with CONTROL_FAILED.
+            start_tolerance: Largest joint deviation [rad or m] of the robot from the
+                solution's start (None: no check), as MoveIt's trajectory execution checks.
+
+        Returns:
+            SUCCESS; PREEMPTED after ``preempt()`` (checked between segments); CONTROL_FAILED.
+        """
+        from mtc.core.execution import execute
+
+        try:
+            return execute(solution, callback=callback, preempt=self._preempt_flag, start_tolerance=start_tolerance)
+        finally:
+            self._preempt_flag.requested = False
+
     def publish(self, solution: SolutionBase) -> None:
         """Show a solution in the viewer if one is open; otherwise a quiet no-op."""
+        from mtc.core.execution import publish
+
+        publish(solution)
 
     def __repr__(self) -> str:
         return f"<Task '{self.name}' ({len(self)} stages)>"
