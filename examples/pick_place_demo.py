@@ -20,8 +20,8 @@ cylinder "object" (height 0.25, radius 0.02) standing on it at (0.5, -0.25). The
 Task properties (``group``, ``eef``, ``hand``, ``hand_grasping_frame``, ``ik_frame``) reach
 the stages through ``exposeTo`` and ``configureInitFrom(PARENT, ...)``. Expected outcome (MTC's
 ``pick_place_test``): ``init()`` works and ``plan(max_solutions=10)`` finds at least 1
-solution, which ``task.execute`` plays on the current scene: the cylinder then stands at the
-place pose. Run: ``python examples/pick_place_demo.py [--view]``
+solution, which ``task.execute`` plays on the current scene (SUCCESS): the cylinder then stands
+at the place pose. Run: ``python examples/pick_place_demo.py [--view]``
 """
 
 from __future__ import annotations
@@ -284,6 +284,11 @@ def main(argv: list[str] | None = None) -> core.Task:
         task.explainFailure()  # which stages failed, and why
     print(f"plan: {result}, {len(task.solutions)} solution(s), costs:",
           [round(s.cost, 4) for s in task.solutions])
+    if task.solutions:
+        # as pick_place_demo.cpp with execute:=true: play the best solution on the current scene
+        executed = task.execute(task.solutions[0])
+        placed = mtc.current_scene().get_frame_transform(OBJECT_NAME)[:3, 3]
+        print(f"execute: {executed}, '{OBJECT_NAME}' now at", [round(float(v), 4) for v in placed])
     if viewer is not None and task.solutions:
         task.publish(task.solutions[0])
         viewer.hold()

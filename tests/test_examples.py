@@ -380,7 +380,7 @@ def test_ik_clearance_cost_orders_ik_solutions_by_clearance():
 
 
 def test_pick_place_demo_places_the_cylinder():
-    """pick_place_demo.py: the cylinder ends on the table at the place pose, arm at ready."""
+    """pick_place_demo.py: planned and executed, the cylinder stands at the place pose, arm at ready."""
     task = run_example("pick_place_demo")
     assert 1 <= len(task.solutions) <= 10
     ready = mtc.RobotState(mtc.robots.panda())
@@ -393,6 +393,12 @@ def test_pick_place_demo_places_the_cylinder():
         assert end.current_state.get_joint_group_positions("panda_arm") == pytest.approx(
             ready.get_joint_group_positions("panda_arm"), abs=1e-3)  # "move home"
         assert not end.is_state_colliding()
+    # main() executed the best solution: the current scene is where it ends
+    current = mtc.current_scene()
+    assert current.attached_object_names == []
+    assert current.get_frame_transform("object")[:3, 3] == pytest.approx([0.6, -0.15, 0.1251], abs=1e-6)
+    assert current.current_state.get_joint_group_positions("panda_arm") == pytest.approx(
+        ready.get_joint_group_positions("panda_arm"), abs=1e-3)
 
 
 def test_pick_place_demo_refuses_an_object_already_held():
