@@ -58,7 +58,7 @@ def test_page_runs(page: Path):
         try:
             exec(compile(code, f"{page.name}:{line}", "exec"), namespace)
         except Exception as e:  # say which block failed: the traceback names the page and line
-            raise AssertionError(f"{page.name}: the python block at line {line} failed: {e!r}") from e
+            raise AssertionError(f"{page.name}: the python block at line {line} failed:\n{type(e).__name__}: {e}") from e
         ran += 1
     if page.name != "index.md":
         assert ran > 0, f"{page.name} has no python block that runs"
