@@ -1197,7 +1197,33 @@ class _PendingPairs:
         ad = sd + ed  # the key now: (ad, ac)
         ac = sc + ec
         i, j = ns, ne
-        while i > i0 or j > j0:
+        if j0 == ne:
+            # the common case: only the start changed; the same walk over its events alone
+            while i > i0:
+                i -= 1
+                t, sd, sc, _d, _c = es[i]
+                bd = sd + ed
+                bc = sc + ec
+                if bd != ad or bc != ac:
+                    break
+            else:
+                pair.vs = ns
+                return False
+        elif i0 == ns:
+            # only the end changed
+            while j > j0:
+                j -= 1
+                t, ed, ec, _d, _c = ee[j]
+                bd = sd + ed
+                bc = sc + ec
+                if bd != ad or bc != ac:
+                    break
+            else:
+                pair.ve = ne
+                return False
+        else:
+            bd, bc = ad, ac
+        while bd == ad and bc == ac and (i > i0 or j > j0):
             if j <= j0 or (i > i0 and es[i - 1][0] > ee[j - 1][0]):
                 i -= 1
                 t, sd, sc, _d, _c = es[i]
@@ -1206,21 +1232,21 @@ class _PendingPairs:
                 t, ed, ec, _d, _c = ee[j]
             bd = sd + ed  # the key before this event: (bd, bc)
             bc = sc + ec
-            if bd != ad or bc != ac:
-                # the seq it had then: the current seq if no earlier event is unseen, else
-                # evaluated when needed (a tie in the same re-sort)
-                if i == i0 and j == j0:
-                    old = pair.seq
-                else:
-                    old = _new_tuple(_LazySeq, (es, ee, pair.start, pair.end, pair.key, pair.seq, i0, j0, i, j))
-                pair.seq = (-t, bd, bc, old) if bd < ad or (bd == ad and bc < ac) else (t, bd, bc, old)
-                pair.key = (ad, ac)
-                pair.vs = ns
-                pair.ve = ne
-                return True
+        if bd == ad and bc == ac:
+            pair.vs = ns
+            pair.ve = ne
+            return False
+        # event t changed the key from (bd, bc): the seq it had then is the current seq if no
+        # earlier event is unseen, else evaluated when needed (a tie in the same re-sort)
+        if i == i0 and j == j0:
+            old = pair.seq
+        else:
+            old = _new_tuple(_LazySeq, (es, ee, pair.start, pair.end, pair.key, pair.seq, i0, j0, i, j))
+        pair.seq = (-t, bd, bc, old) if bd < ad or (bd == ad and bc < ac) else (t, bd, bc, old)
+        pair.key = (ad, ac)
         pair.vs = ns
         pair.ve = ne
-        return False
+        return True
 
     def _push(self, pair: _Pair) -> None:
         # a flat entry (-depth sum, cost sum, seq, pair): cheaper to compare than nested tuples
