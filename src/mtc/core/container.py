@@ -57,6 +57,7 @@ from mtc.core.storage import (
     WrappedSolution,
     _new_sequence,
     _new_tuple,
+    _PushInterface,
 )
 
 __all__ = [
@@ -96,8 +97,9 @@ class ContainerBase(Stage):
         self._children: list[Stage] = []
         self._required_interface = UNKNOWN
         # push targets for the first/last child; lifting to the outside uses liftSolution
-        self._pending_backward = Interface()
-        self._pending_forward = Interface()
+        # (never pulled from: sorted only if someone looks)
+        self._pending_backward = _PushInterface()
+        self._pending_forward = _PushInterface()
         self._internal_to_external: dict[InterfaceState, InterfaceState] = {}
         self._external_to_internal: dict[InterfaceState, list[InterfaceState]] = {}
         self._properties.declare("pruning", False, "enable pruning?").configureInitFrom(

@@ -343,6 +343,111 @@ class Interface:
         return "  ".join(str(s._priority) for s in self._states)
 
 
+class _PushInterface(Interface):
+    """An Interface that stages only push states into and nobody pulls from (no notify).
+
+    A container's push targets for its first and last child are such interfaces: states
+    are added and re-prioritized there for every solution, but their order is only needed
+    if someone looks. So the sorting is deferred until then, giving exactly the order of an
+    :class:`Interface`: there, an added or re-prioritized state goes after all states of
+    equal priority, so the order is by priority, then by the time of that last placement.
+    The placement order is kept in an insertion-ordered dict (a moved state is re-inserted
+    at its end) and stable-sorted by priority when the states are read.
+    """
+
+    __slots__ = ("_placed", "_dirty")
+
+    def __init__(self):
+        super().__init__(None)
+        self._placed: dict[InterfaceState, None] = {}
+        self._dirty = False
+
+    def _sync(self) -> None:
+        if self._dirty:
+            states = sorted(self._placed, key=_priority_of)  # stable: placement order among equals
+            self._states[:] = states
+            self._keys[:] = [s._priority for s in states]
+            self._dirty = False
+
+    def __len__(self) -> int:
+        return len(self._placed)
+
+    def __iter__(self):
+        self._sync()
+        return super().__iter__()
+
+    def __getitem__(self, i):
+        self._sync()
+        return super().__getitem__(i)
+
+    def empty(self) -> bool:
+        return not self._placed
+
+    def size(self) -> int:
+        return len(self._placed)
+
+    def front(self) -> InterfaceState:
+        self._sync()
+        return super().front()
+
+    def clear(self) -> None:
+        for s in self._placed:
+            s._owner = None
+        super().clear()
+        self._placed.clear()
+        self._dirty = False
+
+    def _index(self, state: InterfaceState) -> int:
+        self._sync()
+        return super()._index(state)
+
+    def add(self, state: InterfaceState) -> None:
+        if state._owner is not None:
+            raise RuntimeError("InterfaceState was already added to an interface")
+        if state._scene is None:
+            raise RuntimeError("InterfaceState without planning scene")
+        if state.incoming:
+            state._priority = Priority(1, state.incoming[0]._cost)
+        elif state.outgoing:
+            state._priority = Priority(1, state.outgoing[0]._cost)
+        state._owner = self
+        self._placed[state] = None
+        self._dirty = True
+
+    def remove(self, state: InterfaceState) -> InterfaceState:
+        if self._placed.pop(state, _MISSING) is _MISSING:
+            raise ValueError("state is not part of this interface")
+        state._owner = None
+        self._dirty = True
+        return state
+
+    def pop(self) -> InterfaceState:
+        self._sync()
+        state = super().pop()
+        del self._placed[state]
+        return state
+
+    def updatePriority(self, state: InterfaceState, priority: Priority) -> None:
+        if priority == state._priority:
+            return
+        state._priority = priority
+        placed = self._placed
+        del placed[state]  # placed again: after the states of equal priority
+        placed[state] = None
+        self._dirty = True
+
+    def __repr__(self) -> str:
+        self._sync()
+        return super().__repr__()
+
+
+_MISSING = object()
+
+
+def _priority_of(state: InterfaceState) -> Priority:
+    return state._priority
+
+
 def trajectories(direction: int, state: InterfaceState) -> list:
     """MTC's ``trajectories<dir>``: outgoing solutions for FORWARD, incoming for BACKWARD."""
     return state.outgoing if direction == 0 else state.incoming
