@@ -974,14 +974,13 @@ class PropagatingBackward(PropagatingEitherWay):
 class _Pair:
     """A pending (start, end) pair of a Connecting stage."""
 
-    __slots__ = ("start", "end", "key", "seq", "entry", "vs", "ve", "es", "ee", "alive")
+    __slots__ = ("start", "end", "key", "entry", "vs", "ve", "es", "ee", "alive")
 
     def __init__(self, start: InterfaceState, end: InterfaceState):
         self.start = start
         self.end = end
-        self.key = None
-        self.seq = None
-        self.entry = None
+        self.key = None  # exact mode: the sort key
+        self.entry = None  # fast mode: the order value, also the pair's heap entry
         self.vs = 0  # number of events of start (end) seen by key and seq (fast mode)
         self.ve = 0
         self.es = None  # the event lists of start and end (fast mode)
@@ -1011,14 +1010,14 @@ def _key_of(a: Priority, b: Priority) -> tuple:
 
 
 class _LazySeq(tuple):
-    """The order key a pending pair had before its last move, computed only when compared.
+    """The order value a pending pair had before its last move, computed only when compared.
 
     Compared only between pairs moved in the same re-sort to equal keys (ties), which is
     rare, while one is made for most moves: so it is a tuple subclass, built by
     ``tuple.__new__`` in C without a Python ``__init__`` call. Its items are the arguments
-    of :func:`_replay`: ``(es, ee, start, end, key, seq, i0, j0, i, j)`` (the pair's states,
-    not the pair: pair -> seq -> this -> pair would be a reference cycle, left for the slow
-    full garbage collection). The value is cached in the instance ``__dict__`` once computed.
+    of :func:`_replay`: ``(es, ee, start, end, value, i0, j0, i, j)`` (the pair's states,
+    not the pair: pair -> entry -> this -> pair would be a reference cycle while the pair
+    is pending). The value is cached in the instance ``__dict__`` once computed.
     """
 
     def value(self):
@@ -1047,11 +1046,6 @@ class _LazySeq(tuple):
     __hash__ = object.__hash__
 
 
-def _fast_key(a: Priority, b: Priority) -> tuple:
-    """Pair key in fast mode, where every state is ENABLED: (-depth sum, cost sum)."""
-    return (a[1] + b[1], a[2] + b[2])
-
-
 def _seq_value(seq):
     return seq.value() if isinstance(seq, _LazySeq) else seq
 
@@ -1065,9 +1059,11 @@ def _prio_at(events: list, state: InterfaceState, version: int) -> tuple:
     return p[1], p[2]
 
 
-def _replay(es: list, ee: list, start: InterfaceState, end: InterfaceState, key, seq, i: int, j: int,
+def _replay(es: list, ee: list, start: InterfaceState, end: InterfaceState, value: tuple, i: int, j: int,
             ns: int, ne: int):
-    """(key, seq) of the pair (start, end) after the events [i, ns) of its start and [j, ne) of its end."""
+    """(key, order value) of the pair (start, end) with order value ``value`` after the events
+    [i, ns) of its start and [j, ne) of its end (see :class:`_PendingPairs` for the values)."""
+    key = (value[0], value[1])
     sd, sc = _prio_at(es, start, i)
     ed, ec = _prio_at(ee, end, j)
     while i < ns or j < ne:
@@ -1079,10 +1075,11 @@ def _replay(es: list, ee: list, start: InterfaceState, end: InterfaceState, key,
             j += 1
         new = (sd + ed, sc + ec)
         if new != key:
-            # stable re-sort: worse keys go first among their new equals, better last
-            seq = (-t, key[0], key[1], seq) if key < new else (t, key[0], key[1], seq)
+            # stable re-sort: worse keys go first among their new equals, better last (the
+            # last item, the pair in a heap entry, is never reached in comparisons)
+            value = (new[0], new[1], -t if key < new else t, key[0], key[1], value, None)
             key = new
-    return key, seq
+    return key, value
 
 
 class _PendingPairs:
@@ -1093,12 +1090,17 @@ class _PendingPairs:
     Two implementations give exactly that order:
 
     * fast mode (all states enabled, as always without pruning): each pair carries a total
-      order key ``(key, seq)`` where ``seq`` encodes the stable-sort history: a new pair is
-      last among equal keys; a pair whose key got worse in a re-sort lands first among its
-      new equals, one whose key got better last, both keeping their old relative order. The
-      pairs sit in a heap; a priority change of a state re-keys its pairs at once only if
-      it improved them, otherwise lazily when one of them reaches the top (a stale entry
-      is never better than the true key, so the top entry, once refreshed, is the front).
+      order value that encodes the stable-sort history: a new pair is last among equal keys;
+      a pair whose key got worse in a re-sort lands first among its new equals, one whose
+      key got better last, both keeping their old relative order. That value is the tuple
+      ``(-depth sum, cost sum, t, pair)`` for a pair inserted at time ``t``, and
+      ``(-depth sum, cost sum, -t or t, old -depth sum, old cost sum, old value, pair)``
+      for one moved (worse or better) by the state change at time ``t``; the last item is
+      never reached in comparisons (values of different pairs differ before it). The values
+      are the entries of a heap; a priority change of a state re-keys its pairs at once
+      only if it improved them, otherwise lazily when one of them reaches the top (a stale
+      entry is never better than the true value, so the top entry, once refreshed, is the
+      front).
     * exact mode (entered for good on any status change, silent priority change or foreign
       pair): the plain list with the C++ algorithms on current keys, also reproducing
       MTC's list when it is not sorted.
@@ -1112,6 +1114,10 @@ class _PendingPairs:
         self.clear()
 
     def clear(self) -> None:
+        if getattr(self, "_by_state", None):
+            for pairs in self._by_state.values():
+                for p in pairs:
+                    p.entry = None  # (its chain of old values refers back to the pair)
         self._fast = _PendingPairs.FAST
         self._heap: list = []
         self._front: _Pair | None = None  # the verified front pair while nothing changes
@@ -1144,7 +1150,7 @@ class _PendingPairs:
         for p in live:
             if self._refresh(p):
                 self._push(p)  # its old entry may now be too good
-        live.sort(key=lambda p: (p.key, p.seq))
+        live.sort(key=lambda p: p.entry)
         return live
 
     def _by_pairs(self):
@@ -1175,7 +1181,9 @@ class _PendingPairs:
 
     # --- fast mode --------------------------------------------------------------------------
     def _refresh(self, pair: _Pair) -> bool:
-        """Apply the state changes not yet seen by ``pair``; True if its (key, seq) changed.
+        """Apply the state changes not yet seen by ``pair``; True if its order value changed.
+
+        The new value becomes ``pair.entry`` (the caller pushes it on the heap).
 
         Only the last change that moved the pair decides its place (the stable re-sort then
         puts it first or last among its new equals); the order it had before that change
@@ -1236,24 +1244,23 @@ class _PendingPairs:
             pair.vs = ns
             pair.ve = ne
             return False
-        # event t changed the key from (bd, bc): the seq it had then is the current seq if no
-        # earlier event is unseen, else evaluated when needed (a tie in the same re-sort)
+        # event t changed the key from (bd, bc): the order value the pair had then is its
+        # current one if no earlier event is unseen, else evaluated when needed (a tie in the
+        # same re-sort)
         if i == i0 and j == j0:
-            old = pair.seq
+            old = pair.entry
         else:
-            old = _new_tuple(_LazySeq, (es, ee, pair.start, pair.end, pair.key, pair.seq, i0, j0, i, j))
-        pair.seq = (-t, bd, bc, old) if bd < ad or (bd == ad and bc < ac) else (t, bd, bc, old)
-        pair.key = (ad, ac)
+            old = _new_tuple(_LazySeq, (es, ee, pair.start, pair.end, pair.entry, i0, j0, i, j))
+        if bd < ad or (bd == ad and bc < ac):
+            pair.entry = (ad, ac, -t, bd, bc, old, pair)
+        else:
+            pair.entry = (ad, ac, t, bd, bc, old, pair)
         pair.vs = ns
         pair.ve = ne
         return True
 
     def _push(self, pair: _Pair) -> None:
-        # a flat entry (-depth sum, cost sum, seq, pair): cheaper to compare than nested tuples
-        key = pair.key
-        entry = (key[0], key[1], pair.seq, pair)
-        pair.entry = entry
-        heappush(self._heap, entry)
+        heappush(self._heap, pair.entry)
         self._front = None
 
     def _top(self) -> _Pair | None:
@@ -1263,16 +1270,12 @@ class _PendingPairs:
         heap = self._heap
         while heap:
             entry = heap[0]
-            pair = entry[3]
+            pair = entry[-1]
             if pair.entry is not entry:
                 heappop(heap)  # superseded or popped
                 continue
             if self._refresh(pair):
-                # one sift instead of a pop and a push
-                key = pair.key
-                entry = (key[0], key[1], pair.seq, pair)
-                pair.entry = entry
-                heapreplace(heap, entry)
+                heapreplace(heap, pair.entry)  # one sift instead of a pop and a push
                 continue
             self._front = pair
             return pair
@@ -1312,6 +1315,7 @@ class _PendingPairs:
         self._events = {}
         self._known = {}
         for p in pairs:
+            p.entry = None  # (its chain of old values refers back to the pair)
             p.key = _pair_key(p)  # the exact mode's keys include the status
         self._pairs = pairs
         self._keys = [p.key for p in pairs]
@@ -1339,8 +1343,8 @@ class _PendingPairs:
             self._toExact()
         if self._fast:
             self._t += 1
-            pair.key = _fast_key(start._priority, end._priority)
-            pair.seq = (self._t,)  # after all equal pairs
+            ps, pe = start._priority, end._priority
+            pair.entry = (ps[1] + pe[1], ps[2] + pe[2], self._t, pair)  # after all equal pairs
             events = self._events
             es = events.get(start)
             if es is None:
@@ -1398,7 +1402,7 @@ class _PendingPairs:
             if len(heap) > 2 * self._count + 256:
                 # drop superseded entries (and the seqs they hold) that would otherwise
                 # stay until they surface; the live entries keep their order
-                heap = self._heap = [e for e in heap if e[3].entry is e]
+                heap = self._heap = [e for e in heap if e[-1].entry is e]
                 heapify(heap)
         else:
             pair = self._pairs.pop(0)
