@@ -17,7 +17,7 @@ from mtc.core.cost_terms import PathLength
 from mtc.core.stage import Connecting, InitStageError
 from mtc.core.storage import InterfaceState, SolutionSequence, SubTrajectory
 from mtc.planners.time_parameterization import TimeOptimalTrajectoryGeneration
-from mtc.stages.move_to import check_planner, planner_message
+from mtc.stages._planner_stage import check_planner, planner_message
 
 __all__ = ["Connect", "MergeMode"]
 

@@ -13,8 +13,6 @@ import math
 import numpy as np
 
 from mtc import msgs
-from mtc.core.cost_terms import PathLength
-from mtc.core.stage import InitStageError, PropagatingEitherWay
 from mtc.core.storage import Interface, InterfaceState, SubTrajectory
 from mtc.stages._common import (
     FrameError,
@@ -22,12 +20,11 @@ from mtc.stages._common import (
     arrow_marker,
     check_direction,
     frame_pose,
-    ik_frame_from_args,
     joint_deltas,
     resolve_ik_frame,
     type_name,
 )
-from mtc.stages.move_to import check_planner, planner_message
+from mtc.stages._planner_stage import PlannerStage, planner_message
 
 __all__ = ["MoveRelative"]
 
@@ -48,7 +45,7 @@ def _rotation_angle(R: np.ndarray) -> float:
     return math.acos(max(-1.0, min(1.0, (float(np.trace(R)) - 1.0) / 2.0)))
 
 
-class MoveRelative(PropagatingEitherWay):
+class MoveRelative(PlannerStage):
     """Move relative to the current state.
 
     Args:
@@ -72,38 +69,14 @@ class MoveRelative(PropagatingEitherWay):
     """
 
     def __init__(self, name: str = "move relative", planner=None):
-        super().__init__(name)
-        check_planner(self, planner)
-        self._planner = planner
-        self.setCostTerm(PathLength())
+        super().__init__(name, planner, "frame to be moved in Cartesian direction")
         p = self.properties
-        p.property("timeout").setDefaultValue(1.0)
-        p.declare("group", None, "name of planning group", type=str)
-        p.declare("ik_frame", None, "frame to be moved in Cartesian direction", type=msgs.PoseStamped)
         p.declare("direction", None, "motion specification")
         p.declare("min_distance", -1.0, "minimum distance to move (m or rad)")
         p.declare("max_distance", 0.0, "maximum distance to move (m or rad)")
-        p.declare("path_constraints", msgs.Constraints(), "constraints to maintain during trajectory")
+        self._declare_path_constraints()
 
     # --- configuration ------------------------------------------------------------------
-    @property
-    def planner(self):
-        """The planner."""
-        return self._planner
-
-    def setPlanner(self, planner) -> None:
-        """Replace the planner."""
-        check_planner(self, planner)
-        self._planner = planner
-
-    def setGroup(self, group: str) -> None:
-        """Set the planning group."""
-        self.properties.set("group", group)
-
-    def setIKFrame(self, *args) -> None:
-        """``setIKFrame(PoseStamped)``, ``setIKFrame(pose, link)`` or ``setIKFrame(link)``."""
-        self.properties.set("ik_frame", ik_frame_from_args(*args))
-
     def setMinDistance(self, distance: float) -> None:
         """Set ``min_distance`` [m or rad]."""
         self.properties.set("min_distance", distance)
@@ -117,19 +90,9 @@ class MoveRelative(PropagatingEitherWay):
         self.setMinDistance(min_distance)
         self.setMaxDistance(max_distance)
 
-    def setPathConstraints(self, constraints: msgs.Constraints) -> None:
-        """Set the path constraints."""
-        self.properties.set("path_constraints", constraints)
-
     def setDirection(self, direction) -> None:
         """Set the motion: ``TwistStamped``, ``Vector3Stamped`` or ``{joint: delta}``."""
         self.properties.set("direction", check_direction(direction))
-
-    def init(self, robot_model) -> None:
-        super().init(robot_model)
-        if self._planner is None:
-            raise InitStageError(self, "no planner specified (pass one to the constructor or use setPlanner())")
-        self._planner.init(robot_model)
 
     # --- computing -----------------------------------------------------------------------
     def compute(self, state: InterfaceState, direction: int):

@@ -10,8 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtc import msgs
-from mtc.core.cost_terms import PathLength
-from mtc.core.stage import InitStageError, PropagatingEitherWay
+from mtc.core.stage import InitStageError
 from mtc.core.storage import Interface, InterfaceState, SubTrajectory
 from mtc.stages._common import (
     FrameError,
@@ -19,7 +18,6 @@ from mtc.stages._common import (
     check_goal,
     frame_marker,
     frame_pose,
-    ik_frame_from_args,
     is_joint_goal,
     joint_goal,
     pose_stamped_to_matrix,
@@ -27,36 +25,12 @@ from mtc.stages._common import (
     type_name,
 )
 
+from mtc.stages._planner_stage import PlannerStage, planner_message, synthesized_trajectory
+
 __all__ = ["MoveTo"]
 
 
-def planner_message(result) -> str:
-    """The message of a planner result (``PlannerResult.message``), "" if it has none."""
-    return str(getattr(result, "message", "") or "")
-
-
-def synthesized_trajectory(robot_model, group: str, start, goal):
-    """A 2-waypoint trajectory start -> goal, shown for a failure without a planned path (as MTC)."""
-    from mtc.scene.robot_trajectory import RobotTrajectory
-
-    traj = RobotTrajectory(robot_model, group)
-    traj.add_suffix_waypoint(start, 0.0)
-    traj.add_suffix_waypoint(goal, 1.0)
-    return traj
-
-
-def check_planner(stage, planner) -> None:
-    """Raise ``TypeError`` unless ``planner`` looks like a PlannerInterface (or is None)."""
-    if planner is None:
-        return
-    if not (callable(getattr(planner, "plan", None)) and callable(getattr(planner, "init", None))):
-        raise TypeError(
-            f"{type(stage).__name__} '{stage.name}': planner must be a PlannerInterface "
-            f"(e.g. core.JointInterpolationPlanner()), got {type(planner).__name__}"
-        )
-
-
-class MoveTo(PropagatingEitherWay):
+class MoveTo(PlannerStage):
     """Plan to a goal with a planner.
 
     Args:
@@ -77,50 +51,14 @@ class MoveTo(PropagatingEitherWay):
     """
 
     def __init__(self, name: str = "move to", planner=None):
-        super().__init__(name)
-        check_planner(self, planner)
-        self._planner = planner
-        self.setCostTerm(PathLength())
-        p = self.properties
-        p.property("timeout").setDefaultValue(1.0)
-        p.declare("group", None, "name of planning group", type=str)
-        p.declare("ik_frame", None, "frame to be moved towards goal pose", type=msgs.PoseStamped)
-        p.declare("goal", None, "goal specification")
-        p.declare("path_constraints", msgs.Constraints(), "constraints to maintain during trajectory")
-
-    # --- configuration ------------------------------------------------------------------
-    @property
-    def planner(self):
-        """The planner."""
-        return self._planner
-
-    def setPlanner(self, planner) -> None:
-        """Replace the planner."""
-        check_planner(self, planner)
-        self._planner = planner
-
-    def setGroup(self, group: str) -> None:
-        """Set the planning group."""
-        self.properties.set("group", group)
-
-    def setIKFrame(self, *args) -> None:
-        """``setIKFrame(PoseStamped)``, ``setIKFrame(pose, link)`` or ``setIKFrame(link)``."""
-        self.properties.set("ik_frame", ik_frame_from_args(*args))
+        super().__init__(name, planner, "frame to be moved towards goal pose")
+        self.properties.declare("goal", None, "goal specification")
+        self._declare_path_constraints()
 
     def setGoal(self, goal) -> None:
         """Set the goal: named state, ``{joint: value}`` (stored as a diff RobotState message),
         diff ``msgs.RobotState``, ``msgs.PoseStamped`` or ``msgs.PointStamped``."""
         self.properties.set("goal", check_goal(goal))
-
-    def setPathConstraints(self, constraints: msgs.Constraints) -> None:
-        """Set the path constraints."""
-        self.properties.set("path_constraints", constraints)
-
-    def init(self, robot_model) -> None:
-        super().init(robot_model)
-        if self._planner is None:
-            raise InitStageError(self, "no planner specified (pass one to the constructor or use setPlanner())")
-        self._planner.init(robot_model)
 
     # --- computing -----------------------------------------------------------------------
     def compute(self, state: InterfaceState, direction: int):

@@ -1,0 +1,93 @@
+"""What MoveTo and MoveRelative share: a propagator that plans with a planner for a group.
+
+Both are MTC ``PropagatingEitherWay`` stages with the same planner handling, the properties
+``timeout`` (default 1.0 s), ``group``, ``ik_frame`` and ``path_constraints``, and the
+``PathLength`` cost term.
+"""
+
+from __future__ import annotations
+
+from mtc import msgs
+from mtc.core.cost_terms import PathLength
+from mtc.core.stage import InitStageError, PropagatingEitherWay
+from mtc.stages._common import ik_frame_from_args
+
+__all__ = ["PlannerStage", "check_planner", "planner_message", "synthesized_trajectory"]
+
+
+def planner_message(result) -> str:
+    """The message of a planner result (``PlannerResult.message``), "" if it has none."""
+    return str(getattr(result, "message", "") or "")
+
+
+def synthesized_trajectory(robot_model, group: str, start, goal):
+    """A 2-waypoint trajectory start -> goal, shown for a failure without a planned path (as MTC)."""
+    from mtc.scene.robot_trajectory import RobotTrajectory
+
+    traj = RobotTrajectory(robot_model, group)
+    traj.add_suffix_waypoint(start, 0.0)
+    traj.add_suffix_waypoint(goal, 1.0)
+    return traj
+
+
+def check_planner(stage, planner) -> None:
+    """Raise ``TypeError`` unless ``planner`` looks like a PlannerInterface (or is None)."""
+    if planner is None:
+        return
+    if not (callable(getattr(planner, "plan", None)) and callable(getattr(planner, "init", None))):
+        raise TypeError(
+            f"{type(stage).__name__} '{stage.name}': planner must be a PlannerInterface "
+            f"(e.g. core.JointInterpolationPlanner()), got {type(planner).__name__}"
+        )
+
+
+class PlannerStage(PropagatingEitherWay):
+    """A propagator planning with one planner for one group (base of MoveTo, MoveRelative).
+
+    Args:
+        name: Stage name.
+        planner: The planner (a ``PlannerInterface``).
+        ik_frame_description: How the stage uses its ``ik_frame`` (property description).
+    """
+
+    def __init__(self, name: str, planner, ik_frame_description: str):
+        super().__init__(name)
+        check_planner(self, planner)
+        self._planner = planner
+        self.setCostTerm(PathLength())
+        p = self.properties
+        p.property("timeout").setDefaultValue(1.0)
+        p.declare("group", None, "name of planning group", type=str)
+        p.declare("ik_frame", None, ik_frame_description, type=msgs.PoseStamped)
+
+    def _declare_path_constraints(self) -> None:
+        # declared after the stage's own properties, in MTC's order
+        self.properties.declare("path_constraints", msgs.Constraints(), "constraints to maintain during trajectory")
+
+    @property
+    def planner(self):
+        """The planner."""
+        return self._planner
+
+    def setPlanner(self, planner) -> None:
+        """Replace the planner."""
+        check_planner(self, planner)
+        self._planner = planner
+
+    def setGroup(self, group: str) -> None:
+        """Set the planning group."""
+        self.properties.set("group", group)
+
+    def setIKFrame(self, *args) -> None:
+        """``setIKFrame(PoseStamped)``, ``setIKFrame(pose, link)`` or ``setIKFrame(link)``."""
+        self.properties.set("ik_frame", ik_frame_from_args(*args))
+
+    def setPathConstraints(self, constraints: msgs.Constraints) -> None:
+        """Set the path constraints."""
+        self.properties.set("path_constraints", constraints)
+
+    def init(self, robot_model) -> None:
+        super().init(robot_model)
+        if self._planner is None:
+            raise InitStageError(self, "no planner specified (pass one to the constructor or use setPlanner())")
+        self._planner.init(robot_model)
