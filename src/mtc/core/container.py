@@ -363,10 +363,12 @@ class ContainerBase(Stage):
         # once, keep the others on a stack (mostly there is just one: no stack at all)
         stack = None
         s = state
+        status = prio[0]
         while True:
             old = s._priority
             if old[1] != d or old[2] != c:
-                new = _new_tuple(Priority, (old[0], d, c))
+                # priorities are immutable: share prio where the status is the same
+                new = prio if old[0] == status else _new_tuple(Priority, (old[0], d, c))
                 # InterfaceState.updatePriority without its call: the status is kept, so its
                 # ARMED -> PRUNED guard never applies
                 owner = s._owner

@@ -1544,8 +1544,13 @@ class Connecting(ComputeBase):
         super()._resetBookkeeping()
 
     def _canCompute(self) -> bool:
-        front = self._pending.front()
-        return front is not None and front.start._priority[0] == 0 and front.end._priority[0] == 0
+        pending = self._pending
+        front = pending._front  # the cached front of the fast mode, if still valid
+        if front is None:
+            front = pending.front()
+            if front is None:
+                return False
+        return front.start._priority[0] == 0 and front.end._priority[0] == 0
 
     def _compute(self) -> None:
         pair = self._pending.pop()
@@ -1559,7 +1564,7 @@ class Connecting(ComputeBase):
         self, from_state: InterfaceState, to_state: InterfaceState, solution, cost: float | None = None
     ) -> None:
         """Publish a solution connecting two states (optionally with this cost)."""
-        sol = _as_solution(solution, "connect()")
+        sol = solution if isinstance(solution, SolutionBase) else _as_solution(solution, "connect()")
         if cost is not None:
             sol.cost = cost
         self._connect(from_state, to_state, sol)

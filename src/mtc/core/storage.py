@@ -576,7 +576,13 @@ class SubTrajectory(SolutionBase):
     __slots__ = ("trajectory",)
 
     def __init__(self, trajectory=None, cost: float = 0.0, comment: str = ""):
-        SolutionBase.__init__(self, None, cost, comment)
+        # SolutionBase.__init__ spelled out: one call less for the most common solution
+        self._creator = None
+        self._cost = float(cost)
+        self._comment = comment
+        self._markers = None
+        self._start = None
+        self._end = None
         self.trajectory = trajectory
 
     def setTrajectory(self, trajectory) -> None:
