@@ -236,3 +236,31 @@ def test_current_scene_after_execute_equals_exported_end_scene(panda_task):
     assert execute(solution)
     # what a consumer of the message would end up with is what execute() left behind
     assert mtc.current_scene().get_planning_scene_msg() == end_scenes(msg)[-1]
+
+
+# --- wired into Task -----------------------------------------------------------------------
+
+
+def test_task_execute_plays_and_honours_preempt(panda_task):
+    calls = []
+    assert panda_task.execute(panda_task.solutions[0], callback=lambda s, i, n: calls.append(i))
+    assert calls == [0, 1, 2]
+    assert mtc.current_scene().attached_object_names == ["box"]
+    _initial_scene()
+
+    def cb(sub, i, n):
+        if i == 0:
+            panda_task.preempt()
+
+    assert panda_task.execute(panda_task.solutions[0], callback=cb) == MoveItErrorCode.PREEMPTED
+    assert mtc.current_scene().attached_object_names == []
+    # the request ends with the execution it stopped (as plan() clears it)
+    assert panda_task.execute(panda_task.solutions[0])
+    assert MoveItErrorCode(CONTROL_FAILED) == MoveItErrorCode.CONTROL_FAILED
+    # and the robot is now away from the start: a controller refuses
+    assert panda_task.execute(panda_task.solutions[0]) == MoveItErrorCode.CONTROL_FAILED
+
+
+def test_task_publish_without_viewer_is_quiet(panda_task, monkeypatch):
+    monkeypatch.setenv("MTC_NO_VIEWER", "1")
+    assert panda_task.publish(panda_task.solutions[0]) is None

@@ -265,3 +265,17 @@ def test_bench_small():
     assert r["stored_solution_entries"] == 50 + 250 + 300 + 50  # move, its failures, generator, root
     assert r["environments"] == 1  # every scene shares the generator's empty world
     assert r["scenes"] == 301
+
+
+def test_task_introspection_save_load(panda_task, tmp_path):
+    path = tmp_path / "task.json"
+    panda_task.introspection().save(path)
+    loaded = mtc.Introspection.load(path)
+    assert [st["name"] for st in loaded.stages] == ["task pipeline", "current", "attach box", "extend"]
+    root = loaded.stages[0]["solutions"][0]["id"]
+    assert root == panda_task.introspection().solutionId(panda_task.solutions[0])
+    assert [leaf["kind"] for leaf in loaded.data.leaves(root)] == ["sub_trajectory"] * 3
+    assert loaded.to_dict() == _strict_json(path.read_text())
+    # a live task's data is a fresh snapshot with the same ids
+    live = panda_task.introspection().data
+    assert [leaf["id"] for leaf in live.leaves(root)] == [leaf["id"] for leaf in loaded.data.leaves(root)]
