@@ -5,8 +5,8 @@ moves the robot along a short time-parameterized trajectory (W waypoints) from e
 S of its solutions succeed and F fail with a comment (failures keep their trajectory, as
 MTC's stages store them for display). Every solution ends in its own scene.
 
-Target (issue 6): with 1,000 solutions and 5,000 failures, ``save`` (snapshot + JSON
-file) and ``load`` each under 1 s.
+Target (issue 6): with 1,000 solutions and 5,000 failures, ``task.introspection().save(path)``
+(snapshot + JSON file) and ``mtc.Introspection.load(path)`` each under 1 s.
 
 Usage: python bench/inspector_bench.py [--solutions S] [--failures F] [--waypoints W]
 """
@@ -26,7 +26,6 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
 import mtc  # noqa: E402
 from mtc import core  # noqa: E402
-from mtc.core import introspection_io  # noqa: E402
 from mockups import GeneratorMockup, toy_model  # noqa: E402
 
 
@@ -76,14 +75,15 @@ def run(solutions: int = 1000, failures: int = 5000, waypoints: int = 10, repeat
         save_s = save_cpu = load_s = load_cpu = float("inf")
         for _ in range(repeat):
             wall, cpu = time.perf_counter(), time.process_time()
-            introspection_io.save(task, path)
+            task.introspection().save(path)
             save_s = min(save_s, time.perf_counter() - wall)
             save_cpu = min(save_cpu, time.process_time() - cpu)
             size = os.path.getsize(path)
             wall, cpu = time.perf_counter(), time.process_time()
-            data = introspection_io.load(path)
+            loaded = mtc.Introspection.load(path)
             load_s = min(load_s, time.perf_counter() - wall)
             load_cpu = min(load_cpu, time.process_time() - cpu)
+    data = loaded.data
     stored = len(data.solutions)
     return {
         "solutions": solutions,
