@@ -550,7 +550,7 @@ PAGE = r"""<!DOCTYPE html>
   th { position: sticky; top: 0; background: #eee; }
   td.name, th.name { text-align: left; }
   td.comment { text-align: left; white-space: normal; }
-  td.arrow { text-align: center; font-family: monospace; }
+  td.arrow { text-align: center; font-size: 16px; }
   tr.stage { cursor: pointer; }
   tr.stage:hover, tr.item:hover { background: #eef4ff; }
   tr.selected { background: #cfe0ff !important; }
@@ -577,7 +577,7 @@ PAGE = r"""<!DOCTYPE html>
 "use strict";
 const PAGE = 100;
 // state the tests (and curious users) can read: window.inspector
-const inspector = window.inspector = { treeLoaded: false, stage: null, kind: "solutions",
+const inspector = window.inspector = { treeLoaded: false, treePaintedAt: null, stage: null, kind: "solutions",
   listed: 0, total: 0, selected: null, playing: null, duration: null, viewer: null, error: null };
 const $ = (id) => document.getElementById(id);
 function fmtCost(c) { return typeof c === "number" ? (Math.round(c * 1e4) / 1e4).toString() : String(c); }
@@ -610,6 +610,8 @@ async function loadTree(refresh) {
   }
   inspector.stages = t.stages;
   inspector.treeLoaded = true;
+  // the frame after the rows went in is the tree's first paint
+  requestAnimationFrame(() => { inspector.treePaintedAt = inspector.treePaintedAt || performance.now(); });
   if (inspector.stage) {
     const s = t.stages.find((x) => x.id === inspector.stage.id);
     if (s) selectStage(s, inspector.kind);
