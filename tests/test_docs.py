@@ -9,6 +9,7 @@ results with ``assert``.
 
 from __future__ import annotations
 
+import logging
 import re
 from pathlib import Path
 
@@ -38,12 +39,16 @@ PAGES = sorted(DOCS.glob("*.md"))
 
 @pytest.fixture(autouse=True)
 def headless_fresh_scene(monkeypatch, tmp_path):
-    """No viewer, a fresh current scene, and a scratch working directory for every page."""
+    """No viewer, a fresh current scene, and a scratch working directory for every page; log
+    levels a page changes (troubleshooting.md turns on INFO) are restored afterwards."""
     monkeypatch.setenv("MTC_NO_VIEWER", "1")
     monkeypatch.chdir(tmp_path)
+    levels = {name: logging.getLogger(name).level for name in ("", "mtc")}
     mtc.reset_current_scene()
     yield
     mtc.reset_current_scene()
+    for name, level in levels.items():
+        logging.getLogger(name).setLevel(level)
 
 
 @pytest.mark.parametrize("page", PAGES, ids=[p.name for p in PAGES])
