@@ -142,6 +142,15 @@ def test_tree_matches_the_task(pickplace_task, served):
     assert get(url + "api/viewer")["status"] == "off"
 
 
+def test_loaded_introspection_serves(pickplace_task, tmp_path, served):
+    """mtc.Introspection.load(path) (a saved task) serves the live task's tree."""
+    path = tmp_path / "task.json"
+    pickplace_task.introspection().save(path)
+    url = served(mtc.Introspection.load(path), viewer=False)
+    tree = get(url + "api/tree")
+    assert [(s["name"], s["num_solutions"], s["num_failures"]) for s in tree["stages"]] == stage_rows(pickplace_task)
+
+
 def _print_state(task) -> str:
     import io
 
@@ -178,6 +187,7 @@ def test_lists_sorted_by_cost_and_paginated(served):
 
 
 def test_bad_requests_name_the_problem(pickplace_task, served):
+    """Unknown ids and bad parameters answer 404/400 with a message naming the bad value."""
     url = served(pickplace_task.introspection(), viewer=False)
     assert get_error(url + "api/stage/999") == (404, "no stage with id 999 (ids: [" + ", ".join(
         str(s["id"]) for s in get(url + "api/tree")["stages"]) + "])")
@@ -194,6 +204,7 @@ def test_bad_requests_name_the_problem(pickplace_task, served):
 
 
 def test_stop_ends_the_server(pickplace_task):
+    """stop() closes the port; calling it again does nothing."""
     introspection = pickplace_task.introspection()
     url = mi.serve(introspection, viewer=False)
     assert get(url + "api/tree")["stages"]
@@ -257,12 +268,14 @@ def test_saved_file_serves_the_same_tree(pickplace_task, tmp_path, served):
 
 
 def test_command_line_without_file_explains_usage():
+    """python -m mtc.inspect without a file prints usage and how to write a file."""
     r = subprocess.run([sys.executable, "-m", "mtc.inspect"], capture_output=True, text=True, timeout=60)
     assert r.returncode == 2
     assert "usage: python -m mtc.inspect" in r.stderr and "task.introspection().save" in r.stderr
 
 
 def test_command_line_rejects_a_bad_file(tmp_path):
+    """A JSON file that is no introspection data is refused with the loader's message."""
     bad = tmp_path / "bad.json"
     bad.write_text('{"hello": 1}')
     r = subprocess.run([sys.executable, "-m", "mtc.inspect", str(bad)], capture_output=True, text=True, timeout=60)
@@ -270,6 +283,7 @@ def test_command_line_rejects_a_bad_file(tmp_path):
 
 
 def test_command_line_serves_a_saved_file(pickplace_task, tmp_path):
+    """python -m mtc.inspect saved.json prints the address and serves the saved tree."""
     path = tmp_path / "task.json"
     introspection_io.save(pickplace_task, path, pickplace_task.introspection())
     proc = subprocess.Popen(
@@ -384,6 +398,8 @@ def test_page_lists_stages_and_plays_a_solution(pickplace_task, browser, tmp_pat
         assert browser.execute_script("return window.inspector.error") is None
         played = browser.execute_script("return window.inspector.duration")
         assert played > 1.0
+        parts = browser.find_elements(By.CSS_SELECTOR, "#parts tbody tr")
+        assert len(parts) == len(_leaves(task.solutions[0]))  # the solution's parts, in order
 
         browser.switch_to.frame(frame)
         # the clip arrived and its clock runs (a 7 s clip may already be over when we look)

@@ -560,6 +560,7 @@ PAGE = r"""<!DOCTYPE html>
   .tabs button.on { font-weight: bold; }
   #list-head { padding: 4px 8px; display: flex; gap: 10px; align-items: center; }
   button.more { margin: 6px; }
+  #parts-head { padding: 8px 8px 2px; color: #333; }
 </style>
 </head>
 <body>
@@ -571,7 +572,10 @@ PAGE = r"""<!DOCTYPE html>
   <span class="tabs"><button id="tab-solutions" class="on">solutions</button><button id="tab-failures">failures</button></span>
   <span id="list-count"></span></div>
   <table id="list"><thead><tr><th>id</th><th>cost</th><th class="name">comment</th></tr></thead><tbody></tbody></table>
-  <button class="more" id="more" hidden>more</button></div>
+  <button class="more" id="more" hidden>more</button>
+  <div id="parts-head"></div>
+  <table id="parts" hidden><thead><tr><th>part</th><th class="name">stage</th><th>cost</th><th>duration [s]</th>
+    <th class="name">comment</th></tr></thead><tbody></tbody></table></div>
 <div id="viewer-pane"><span id="viewer-msg">viewer: starting</span><iframe id="viewer" title="viewer"></iframe></div>
 <script>
 "use strict";
@@ -655,11 +659,25 @@ async function selectSolution(id) {
   try {
     const info = await getJSON(`/api/solution/${id}`);
     setStatus(`solution ${id}: ${info.parts.length} part(s), ${info.duration.toFixed(2)} s`);
+    showParts(info);
     const r = await getJSON(`/api/play/${id}`, { method: "POST" });
     inspector.playing = id; inspector.duration = r.duration; inspector.error = null;
   } catch (e) {
     inspector.error = String(e.message || e); setStatus("solution " + id + ": " + inspector.error);
   }
+}
+
+function showParts(info) {
+  $("parts-head").textContent = `solution ${info.id} of stage ${info.stage}: cost ${fmtCost(info.cost)}` +
+    (info.comment ? `, ${info.comment}` : "") + `; its parts in order:`;
+  const body = $("parts").tBodies[0];
+  body.replaceChildren();
+  for (const p of info.parts) {
+    const row = body.insertRow();
+    cell(row, p.id); cell(row, p.stage, "name"); cell(row, fmtCost(p.cost)); cell(row, p.duration.toFixed(3));
+    cell(row, p.comment, "comment");
+  }
+  $("parts").hidden = false;
 }
 
 async function pollViewer() {
