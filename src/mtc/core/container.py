@@ -57,7 +57,7 @@ from mtc.core.storage import (
     WrappedSolution,
     _new_sequence,
     _new_tuple,
-    _PushInterface,
+    _LazyInterface,
 )
 
 __all__ = [
@@ -98,8 +98,8 @@ class ContainerBase(Stage):
         self._required_interface = UNKNOWN
         # push targets for the first/last child; lifting to the outside uses liftSolution
         # (never pulled from: sorted only if someone looks)
-        self._pending_backward = _PushInterface()
-        self._pending_forward = _PushInterface()
+        self._pending_backward = _LazyInterface()
+        self._pending_forward = _LazyInterface()
         self._internal_to_external: dict[InterfaceState, InterfaceState] = {}
         self._external_to_internal: dict[InterfaceState, list[InterfaceState]] = {}
         self._properties.declare("pruning", False, "enable pruning?").configureInitFrom(

@@ -43,6 +43,7 @@ from mtc.core.storage import (
     SolutionBase,
     Solutions,
     SubTrajectory,
+    _LazyInterface,
     _new_tuple,
 )
 
@@ -1527,8 +1528,10 @@ class Connecting(ComputeBase):
 
     def __init__(self, name: str = "connecting"):
         super().__init__(name)
-        self._starts = Interface(self._newStartState)
-        self._ends = Interface(self._newEndState)
+        # sorted when read (new states pair with the opposite states in their order): the
+        # states are re-prioritized for every solution of a serial container
+        self._starts = _LazyInterface(self._newStartState)
+        self._ends = _LazyInterface(self._newEndState)
         self._pending = _PendingPairs(self)
 
     def requiredInterface(self) -> int:
@@ -1621,7 +1624,7 @@ class Connecting(ComputeBase):
                         continue
                     if status != 0:
                         # an enabled alternative in the state's own interface cancels
-                        if any(alt._priority[0] == 0 for alt in own._states):
+                        if any(alt._priority[0] == 0 for alt in own):
                             continue
                     # FORWARD for a start state's opposite, BACKWARD for an end state's
                     parent._setStatus(1 - direction, None, None, o, status)
@@ -1636,7 +1639,7 @@ class Connecting(ComputeBase):
         pending.noteState(state)
         have_enabled_opposites = False
         to_enable = []
-        for o in list(other._states):
+        for o in list(other):
             # as MTC: the new state is always the first argument
             if not self.compatible(state, o):
                 continue

@@ -343,22 +343,24 @@ class Interface:
         return "  ".join(str(s._priority) for s in self._states)
 
 
-class _PushInterface(Interface):
-    """An Interface that stages only push states into and nobody pulls from (no notify).
+class _LazyInterface(Interface):
+    """An Interface that sorts its states only when they are read.
 
-    A container's push targets for its first and last child are such interfaces: states
-    are added and re-prioritized there for every solution, but their order is only needed
-    if someone looks. So the sorting is deferred until then, giving exactly the order of an
-    :class:`Interface`: there, an added or re-prioritized state goes after all states of
+    For interfaces whose states are re-prioritized for every solution but rarely read in
+    order: a container's push targets for its first and last child (never read) and a
+    Connecting's own interfaces (read when a new state arrives). The order is exactly an
+    :class:`Interface`'s: there, an added or re-prioritized state goes after all states of
     equal priority, so the order is by priority, then by the time of that last placement.
     The placement order is kept in an insertion-ordered dict (a moved state is re-inserted
-    at its end) and stable-sorted by priority when the states are read.
+    at its end) and stable-sorted by priority when the states are read. Notifications are
+    sent at once, as by an Interface. Code reading ``_states``/``_keys`` directly must call
+    :meth:`_sync` first.
     """
 
     __slots__ = ("_placed", "_dirty")
 
-    def __init__(self):
-        super().__init__(None)
+    def __init__(self, notify: Callable[[InterfaceState, int], Any] | None = None):
+        super().__init__(notify)
         self._placed: dict[InterfaceState, None] = {}
         self._dirty = False
 
@@ -413,6 +415,9 @@ class _PushInterface(Interface):
         state._owner = self
         self._placed[state] = None
         self._dirty = True
+        notify = self.notify
+        if notify is not None:
+            notify(state, 0)
 
     def remove(self, state: InterfaceState) -> InterfaceState:
         if self._placed.pop(state, _MISSING) is _MISSING:
@@ -428,13 +433,19 @@ class _PushInterface(Interface):
         return state
 
     def updatePriority(self, state: InterfaceState, priority: Priority) -> None:
-        if priority == state._priority:
+        old = state._priority
+        if priority == old:
             return
         state._priority = priority
         placed = self._placed
         del placed[state]  # placed again: after the states of equal priority
         placed[state] = None
         self._dirty = True
+        notify = self.notify
+        if notify is not None:
+            notify(state, Interface.PRIORITY if old[0] == priority[0] else Interface.ALL)
+        elif self._disabled:
+            self._silent.append(state)
 
     def __repr__(self) -> str:
         self._sync()
