@@ -60,10 +60,14 @@ def test_page_runs(page: Path):
         if reason is not None:
             assert reason, f"{page.name}:{line}: a no-test marker needs a reason"
             continue
+        # padded with newlines, so tracebacks show the page's own line numbers
+        source = "\n" * line + code
         try:
-            exec(compile(code, f"{page.name}:{line}", "exec"), namespace)
-        except Exception as e:  # say which block failed: the traceback names the page and line
-            raise AssertionError(f"{page.name}: the python block at line {line} failed:\n{type(e).__name__}: {e}") from e
+            exec(compile(source, str(page), "exec"), namespace)
+        except Exception as e:
+            raise AssertionError(
+                f"{page.name}: the python block at line {line} failed:\n{type(e).__name__}: {e}"
+            ) from e
         ran += 1
     if page.name != "index.md":
         assert ran > 0, f"{page.name} has no python block that runs"
