@@ -128,6 +128,19 @@ class Introspection:
         obj.stages = data.stages
         return obj
 
+    def serve(self, port: int = 0, robot_model=None) -> str:
+        """Serve the inspector page on 127.0.0.1 in a background thread; returns its address
+        at once (``port=0``: a free port)."""
+        from mtc.inspect import serve
+
+        return serve(self, port=port, robot_model=robot_model)
+
+    def stop(self) -> None:
+        """Stop the inspector page that :meth:`serve` started (no-op if none)."""
+        from mtc.inspect import stop
+
+        stop(self)
+
     @property
     def data(self):
         """Look-ups for the inspector (``IntrospectionData``: solution(), leaves(),
