@@ -8,12 +8,15 @@ separate run, as tracing slows Python down). Everything but the mockups' few lin
 engine overhead. Target (issue 3): under 50 us of engine overhead per connector call
 and under 200 MB for N = 100.
 
-Usage: python bench/engine_bench.py [--states N] [--no-tracemalloc]
+The figures are medians over ``--repeat`` runs (default 3), as the machine may be shared.
+
+Usage: python bench/engine_bench.py [--states N] [--repeat R] [--no-tracemalloc]
 """
 
 from __future__ import annotations
 
 import argparse
+import statistics
 import sys
 import time
 import tracemalloc
@@ -62,11 +65,18 @@ def run(states: int = 100, trace_memory: bool = True) -> dict:
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--states", type=int, default=100, help="states per generator")
+    parser.add_argument("--repeat", type=int, default=3, help="runs per figure (the median is shown)")
     parser.add_argument("--no-tracemalloc", action="store_true", help="time without memory tracing")
     args = parser.parse_args(argv)
-    r = run(args.states, False)
+    if args.repeat < 1:
+        parser.error(f"--repeat must be at least 1, got {args.repeat}")
+    runs = [run(args.states, False) for _ in range(args.repeat)]
+    r = dict(runs[0])
+    for key in ("total_s", "per_call_us", "cpu_s", "cpu_per_call_us"):
+        r[key] = statistics.median(x[key] for x in runs)
     if not args.no_tracemalloc:
-        r["peak_mb"] = run(args.states, True)["peak_mb"]
+        r["peak_mb"] = statistics.median(run(args.states, True)["peak_mb"] for _ in range(args.repeat))
+    print(f"{'runs (medians shown)':<28}{args.repeat:>12}")
     print(f"{'states per generator':<28}{r['states']:>12}")
     print(f"{'solutions':<28}{r['solutions']:>12}")
     print(f"{'connector calls':<28}{r['connector_calls']:>12}")

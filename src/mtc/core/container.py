@@ -509,8 +509,8 @@ class SerialContainer(ContainerBase):
         nr = len(self._children)
         cost = current._cost
         # the priority sum in_prio + Priority(1, cost) + out_prio, spelled out (same additions
-        # in the same order): the paths of _collect are ENABLED, so the status is the middle's
-        status = ENABLED if -INF < cost < INF else PRUNED
+        # in the same order); a sum has the smallest status, and _collect's paths are ENABLED
+        status = ENABLED
         sorted_solutions: list[SolutionSequence] = []
         sorted_costs: list[float] = []
         update = self._updateStatePrios

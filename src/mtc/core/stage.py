@@ -1275,7 +1275,8 @@ class _PendingPairs:
             if pair.entry is not entry:
                 heappop(heap)  # superseded or popped
                 continue
-            if self._refresh(pair):
+            # (the pair's events all seen: up to date without calling _refresh)
+            if (pair.vs != len(pair.es) or pair.ve != len(pair.ee)) and self._refresh(pair):
                 heapreplace(heap, pair.entry)  # one sift instead of a pop and a push
                 continue
             self._front = pair
