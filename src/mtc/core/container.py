@@ -613,13 +613,17 @@ class SerialContainer(ContainerBase):
                 raise InitStageError(child, "end interface is not fed")
 
 
-def _collect(direction: int, start: SolutionBase) -> list[tuple[list, Priority]]:
-    """All partial solution paths from ``start`` in ``direction`` (failures skipped), with summed priority."""
+def _collect(direction: int, start: SolutionBase) -> list[tuple[list, tuple]]:
+    """All partial solution paths from ``start`` in ``direction`` (failures skipped), with summed priority.
+
+    The priorities are plain ``(status, -depth, cost)`` tuples (Priority's layout; the
+    caller only adds them up).
+    """
     forward = direction == FORWARD
     nxt = start._end.outgoing if forward else start._start.incoming
     if not nxt:
         return [([], _ZERO)]
-    results: list[tuple[list, Priority]] = []
+    results: list[tuple[list, tuple]] = []
     _traverse(nxt, forward, 0, 0.0, [], results)
     return results
 
@@ -637,11 +641,11 @@ def _traverse(solutions, forward: bool, depth: int, cost: float, trace: list, re
         if following:
             _traverse(following, forward, depth + 1, cost + c, trace, results)
         else:
-            results.append((trace.copy(), _new_tuple(Priority, (0, -(depth + 1), cost + c))))
+            results.append((trace.copy(), (0, -(depth + 1), cost + c)))
         trace.pop()
 
 
-_ZERO = _new_tuple(Priority, (0, 0, 0.0))
+_ZERO = (0, 0, 0.0)  # the priority of an empty path
 
 
 class ParallelContainerBase(ContainerBase):

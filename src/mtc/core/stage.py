@@ -1395,7 +1395,7 @@ class _PendingPairs:
 
     def pop(self) -> _Pair:
         if self._fast:
-            pair = self._top()
+            pair = self._front or self._top()
             heap = self._heap
             heappop(heap)
             pair.entry = None
