@@ -510,7 +510,6 @@ class SerialContainer(ContainerBase):
         cost = current._cost
         # the priority sum in_prio + Priority(1, cost) + out_prio, spelled out (same additions
         # in the same order); a sum has the smallest status, and _collect's paths are ENABLED
-        status = ENABLED
         sorted_solutions: list[SolutionSequence] = []
         sorted_costs: list[float] = []
         update = self._updateStatePrios
@@ -530,7 +529,7 @@ class SerialContainer(ContainerBase):
                     sorted_solutions.insert(i, _new_sequence(subs, total, self))
                 if neg_depth < -1:
                     # update state priorities along the whole partial solution path
-                    prio = _new_tuple(Priority, (status, neg_depth, total))
+                    prio = _new_tuple(Priority, (ENABLED, neg_depth, total))
                     update(BACKWARD, current._start, prio)
                     update(FORWARD, current._end, prio)
         for seq in sorted_solutions:

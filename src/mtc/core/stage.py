@@ -982,7 +982,7 @@ class _Pair:
         self.end = end
         self.key = None  # exact mode: the sort key
         self.entry = None  # fast mode: the order value, also the pair's heap entry
-        self.vs = 0  # number of events of start (end) seen by key and seq (fast mode)
+        self.vs = 0  # number of events of start (end) seen by entry (fast mode)
         self.ve = 0
         self.es = None  # the event lists of start and end (fast mode)
         self.ee = None
