@@ -142,13 +142,23 @@ def test_tree_matches_the_task(pickplace_task, served):
     assert get(url + "api/viewer")["status"] == "off"
 
 
-def test_loaded_introspection_serves(pickplace_task, tmp_path, served):
-    """mtc.Introspection.load(path) (a saved task) serves the live task's tree."""
+def test_loaded_introspection_serves(pickplace_task, tmp_path, monkeypatch):
+    """mtc.Introspection.load(path).serve() shows the saved tree; under MTC_NO_VIEWER the
+    viewer pane says why it is empty."""
+    monkeypatch.setenv("MTC_NO_VIEWER", "1")
     path = tmp_path / "task.json"
     pickplace_task.introspection().save(path)
-    url = served(mtc.Introspection.load(path), viewer=False)
-    tree = get(url + "api/tree")
-    assert [(s["name"], s["num_solutions"], s["num_failures"]) for s in tree["stages"]] == stage_rows(pickplace_task)
+    loaded = mtc.Introspection.load(path)
+    url = loaded.serve(port=0)
+    try:
+        tree = get(url + "api/tree")
+        assert [(s["name"], s["num_solutions"], s["num_failures"]) for s in tree["stages"]] == stage_rows(pickplace_task)
+        state = wait_for(lambda: (v := get(url + "api/viewer"))["status"] != "starting" and v, 30, "the viewer")
+        assert state["status"] == "unavailable" and "MTC_NO_VIEWER" in state["reason"]
+    finally:
+        loaded.stop()
+    with pytest.raises(urllib.error.URLError):
+        urllib.request.urlopen(url + "api/tree", timeout=5)
 
 
 def _print_state(task) -> str:
@@ -362,7 +372,7 @@ def test_page_lists_stages_and_plays_a_solution(pickplace_task, browser, tmp_pat
     monkeypatch.delenv("MTC_NO_VIEWER", raising=False)  # the page needs a real viewer
     task = pickplace_task
     introspection = task.introspection()
-    url = mi.serve(introspection)
+    url = introspection.serve(port=0)
     try:
         browser.get(url)
         js_wait(browser, "window.inspector && window.inspector.treeLoaded", 20, "the stage tree")
@@ -429,7 +439,7 @@ def test_page_lists_stages_and_plays_a_solution(pickplace_task, browser, tmp_pat
         assert browser.save_screenshot(str(shot)) and shot.stat().st_size > 1000
         print("screenshot:", shot)
     finally:
-        mi.stop(introspection)
+        introspection.stop()
 
 
 def test_first_paint_with_many_solutions(browser):
