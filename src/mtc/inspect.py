@@ -88,6 +88,14 @@ def _bundled_model(name: str):
     return factory()
 
 
+def _stage_or_none(data: IntrospectionData, stage_id) -> dict:
+    """The stage entry of an id, or an empty entry (a solution may come without a creator)."""
+    try:
+        return data.stage(stage_id)
+    except KeyError:
+        return {}
+
+
 def _data_of(introspection) -> IntrospectionData:
     """The inspector data of an ``Introspection`` (a fresh snapshot for a live task)."""
     if isinstance(introspection, IntrospectionData):
@@ -224,7 +232,7 @@ class Inspector:
             traj = data.trajectory(leaf["id"])
             duration = float(traj["times"][-1]) if traj is not None and len(traj["times"]) else 0.0
             total += duration
-            stage = data._stage_by_id.get(leaf.get("stage_id"), {})
+            stage = _stage_or_none(data, leaf.get("stage_id"))
             parts.append(
                 {
                     "id": leaf["id"],
@@ -235,7 +243,7 @@ class Inspector:
                     "waypoints": 0 if traj is None else len(traj["times"]),
                 }
             )
-        creator = data._stage_by_id.get(sol.get("stage_id"), {})
+        creator = _stage_or_none(data, sol.get("stage_id"))
         return {
             "id": solution_id,
             "stage": creator.get("name", ""),
