@@ -21,23 +21,32 @@ from mockups import (
     add,
     costs,
     make_task,
+    new_scene,
 )
 
+from mtc.core import InterfaceState, Priority
+from mtc.core import stage as stage_module
 from mtc.core.stage import _PendingPairs
 
 
-def _random_task(rng: random.Random, pruning: bool):
-    """A random serial task of generators, Connects and propagators with tied integer costs."""
+INTEGER_COSTS = ((0, 1, 2, 3), (0, 1, 2))
+# sums of these round (0.1 + 0.2 != 0.3, 1e16 + 1 == 1e16): ties appear and vanish with rounding
+ROUNDING_COSTS = ((0.1, 0.2, 0.3, 1e16), (0.0, 0.1, 0.2, 1.0))
+
+
+def _random_task(rng: random.Random, pruning: bool, cost_values=INTEGER_COSTS, max_states: int = 8):
+    """A random serial task of generators, Connects and propagators with tied costs."""
     t = make_task()
     t.pruning = pruning
     log = []
+    gen_values, con_values = cost_values
 
     def gen_costs(n):
-        return [float(rng.choice([0, 1, 2, 3])) if rng.random() > 0.1 else INF for _ in range(n)]
+        return [float(rng.choice(gen_values)) if rng.random() > 0.1 else INF for _ in range(n)]
 
     def con_costs():
         return PredefinedCosts(
-            [float(rng.choice([0, 1, 2])) if rng.random() > 0.15 else INF for _ in range(60)] + [0.0], finite=False
+            [float(rng.choice(con_values)) if rng.random() > 0.15 else INF for _ in range(60)] + [0.0], finite=False
         )
 
     class LoggingConnect(ConnectMockup):
@@ -47,22 +56,22 @@ def _random_task(rng: random.Random, pruning: bool):
 
     if rng.random() < 0.5:
         add(t, BackwardMockup(PredefinedCosts.constant(float(rng.choice([0, 1])))))
-    add(t, GeneratorMockup(gen_costs(rng.randint(1, 8)), rng.randint(1, 3)))
+    add(t, GeneratorMockup(gen_costs(rng.randint(1, max_states)), rng.randint(1, 3)))
     for _ in range(rng.randint(1, 3)):
         add(t, LoggingConnect(con_costs()))
         if rng.random() < 0.3:
             add(t, BackwardMockup(PredefinedCosts.constant(float(rng.choice([0, 1, INF])))))
-        add(t, GeneratorMockup(gen_costs(rng.randint(1, 8)), rng.randint(1, 3)))
+        add(t, GeneratorMockup(gen_costs(rng.randint(1, max_states)), rng.randint(1, 3)))
         if rng.random() < 0.3:
             add(t, ForwardMockup(PredefinedCosts.constant(float(rng.choice([0, 1, INF])))))
     return t, log
 
 
-def _plan(seed: int, fast: bool, pruning: bool):
+def _plan(seed: int, fast: bool, pruning: bool, **task_args):
     saved = _PendingPairs.FAST
     _PendingPairs.FAST = fast
     try:
-        t, log = _random_task(random.Random(seed), pruning)
+        t, log = _random_task(random.Random(seed), pruning, **task_args)
         t.plan()
         modes = [s._pending._fast for s in t.stages if hasattr(s, "_pending")]
         return log, costs(t.solutions), modes
@@ -85,6 +94,60 @@ def test_fast_equals_exact_with_pruning(seed):
     exact_log, exact_costs, _ = _plan(seed, False, True)
     assert fast_log == exact_log
     assert fast_costs == exact_costs
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_fast_equals_exact_with_rounding_costs(seed):
+    """Float costs whose sums round: the fast mode adds up keys exactly as the list does."""
+    for pruning in (False, True):
+        fast_log, fast_costs, _ = _plan(seed, True, pruning, cost_values=ROUNDING_COSTS)
+        exact_log, exact_costs, _ = _plan(seed, False, pruning, cost_values=ROUNDING_COSTS)
+        assert fast_log == exact_log
+        assert fast_costs == exact_costs
+
+
+def _order_after_tied_moves(fast: bool, moves: int) -> list[int]:
+    """A start paired with three equal ends; the start's cost alternates ``moves`` times."""
+    saved = _PendingPairs.FAST
+    _PendingPairs.FAST = fast
+    try:
+        con = ConnectMockup()
+        scene = new_scene()
+        start = InterfaceState(scene, Priority(1, 0.0))
+        con.starts.add(start)
+        ends = [InterfaceState(scene, Priority(1, 0.0)) for _ in range(3)]
+        for e in ends:
+            con.ends.add(e)
+        for k in range(moves):
+            start.updatePriority(Priority(1, float(k % 2)))  # better, worse, better, ...
+            if k % 50 == 0:
+                ends[2].updatePriority(Priority(1, float(k % 3)))
+        return [ends.index(p.end) for p in con.pending]
+    finally:
+        _PendingPairs.FAST = saved
+
+
+def test_long_tied_histories_compare_without_recursion():
+    """Pairs tied over 1,500 moves: their order is found in a loop (nested tuples exceeded the
+    recursion limit here) and equals the list's."""
+    assert _order_after_tied_moves(True, 1500) == _order_after_tied_moves(False, 1500)
+
+
+def test_tie_breaks_through_earlier_moves_are_exercised(monkeypatch):
+    """Ties are broken by the order before a move, also when it had to be replayed (lazily)."""
+    calls = []
+    real = stage_module._replay
+
+    def counting_replay(*args):
+        calls.append(args[5:])  # (i0, j0, i, j): a replay over unseen moves, or none
+        return real(*args)
+
+    monkeypatch.setattr(stage_module, "_replay", counting_replay)
+    for seed in range(30):
+        t, _ = _random_task(random.Random(seed), False)
+        t.plan()
+    assert len(calls) > 100
+    assert any(i > i0 or j > j0 for i0, j0, i, j in calls)
 
 
 def test_lazy_refresh_is_exercised():

@@ -1010,45 +1010,72 @@ def _key_of(a: Priority, b: Priority) -> tuple:
     return (0 if sa == 0 and sb == 0 else 1, sa if sa < sb else sb, a[1] + b[1], a[2] + b[2])
 
 
-class _LazySeq(tuple):
-    """The order value a pending pair had before its last move, computed only when compared.
+class _Before(tuple):
+    """The order value a pending pair had before its last move (the tie-break of that move).
 
-    Compared only between pairs moved in the same re-sort to equal keys (ties), which is
-    rare, while one is made for most moves: so it is a tuple subclass, built by
-    ``tuple.__new__`` in C without a Python ``__init__`` call. Its items are the arguments
-    of :func:`_replay`: ``(es, ee, start, end, value, i0, j0, i, j)`` (the pair's states,
-    not the pair: pair -> entry -> this -> pair would be a reference cycle while the pair
-    is pending). The value is cached in the instance ``__dict__`` once computed.
+    Either ``(value,)`` or, if the pair saw several moves at once, the arguments of
+    :func:`_replay` ``(es, ee, start, end, value, i0, j0, i, j)``, replayed only when
+    compared (the pair's states, not the pair: pair -> entry -> this -> pair would be a
+    reference cycle while the pair is pending); the result is cached in the instance
+    ``__dict__``. It is compared only between pairs moved in the same re-sort to equal keys
+    (ties), which is rare, while one is made for every move: so it is a tuple subclass, built
+    by ``tuple.__new__`` in C without a Python ``__init__`` call.
+
+    Its comparisons walk the chain of earlier values in a loop (:func:`_compare_values`):
+    as nested tuples, pairs tied over hundreds of moves would exceed the recursion limit.
     """
 
-    def value(self):
+    def value(self) -> tuple:
+        if len(self) == 1:
+            return self[0]
         d = self.__dict__
         v = d.get("v")
         if v is None:
             v = d["v"] = _replay(*self)[1]
         return v
 
-    # the other side may be a materialized seq (a tuple) from a replay
     def __eq__(self, other):
-        return self is other or self.value() == _seq_value(other)
+        return self is other or _compare_values(self.value(), other.value()) == 0
+
+    def __ne__(self, other):
+        return not self.__eq__(other)
 
     def __lt__(self, other):
-        return self.value() < _seq_value(other)
+        return _compare_values(self.value(), other.value()) < 0
 
     def __gt__(self, other):
-        return self.value() > _seq_value(other)
+        return _compare_values(self.value(), other.value()) > 0
 
     def __le__(self, other):
-        return self.value() <= _seq_value(other)
+        return _compare_values(self.value(), other.value()) <= 0
 
     def __ge__(self, other):
-        return self.value() >= _seq_value(other)
+        return _compare_values(self.value(), other.value()) >= 0
 
     __hash__ = object.__hash__
 
 
-def _seq_value(seq):
-    return seq.value() if isinstance(seq, _LazySeq) else seq
+def _compare_values(a: tuple, b: tuple) -> int:
+    """-1, 0 or 1 as order value ``a`` is before, equal to or after ``b``: tuple order, in a loop.
+
+    A value is ``(-depth sum, cost sum, t, pair)`` (inserted at time t) or ``(-depth sum, cost
+    sum, -t or t, old -depth sum, old cost sum, _Before, pair)`` (moved at time t); the
+    trailing pair is never reached, as values of different pairs differ before it.
+    """
+    while a is not b:
+        if len(a) == 7 and len(b) == 7:
+            ha, hb = a[:5], b[:5]
+            if ha != hb:
+                return -1 if ha < hb else 1
+            # the same move, equal keys before: the older values (Before.value() inlined)
+            x, y = a[5], b[5]
+            a = x[0] if len(x) == 1 else x.value()
+            b = y[0] if len(y) == 1 else y.value()
+        else:
+            # an inserted pair on one side: its unique time decides within the first three
+            ha, hb = a[:3], b[:3]
+            return -1 if ha < hb else (1 if ha > hb else 0)
+    return 0
 
 
 def _prio_at(events: list, state: InterfaceState, version: int) -> tuple:
@@ -1078,7 +1105,7 @@ def _replay(es: list, ee: list, start: InterfaceState, end: InterfaceState, valu
         if new != key:
             # stable re-sort: worse keys go first among their new equals, better last (the
             # last item, the pair in a heap entry, is never reached in comparisons)
-            value = (new[0], new[1], -t if key < new else t, key[0], key[1], value, None)
+            value = (new[0], new[1], -t if key < new else t, key[0], key[1], _new_tuple(_Before, (value,)), None)
             key = new
     return key, value
 
@@ -1096,8 +1123,9 @@ class _PendingPairs:
       key got better last, both keeping their old relative order. That value is the tuple
       ``(-depth sum, cost sum, t, pair)`` for a pair inserted at time ``t``, and
       ``(-depth sum, cost sum, -t or t, old -depth sum, old cost sum, old value, pair)``
-      for one moved (worse or better) by the state change at time ``t``; the last item is
-      never reached in comparisons (values of different pairs differ before it). The values
+      for one moved (worse or better) by the state change at time ``t``, the old value
+      wrapped in a :class:`_Before`; the last item is never reached in comparisons (values
+      of different pairs differ before it). The values
       are the entries of a heap; a priority change of a state re-keys its pairs at once
       only if it improved them, otherwise lazily when one of them reaches the top (a stale
       entry is never better than the true value, so the top entry, once refreshed, is the
@@ -1188,8 +1216,8 @@ class _PendingPairs:
 
         Only the last change that moved the pair decides its place (the stable re-sort then
         puts it first or last among its new equals); the order it had before that change
-        only breaks ties within the same re-sort, so it is kept as a lazily evaluated
-        :class:`_LazySeq`.
+        only breaks ties within the same re-sort, so it is kept as a (possibly lazily
+        evaluated) :class:`_Before`.
         """
         es = pair.es
         ee = pair.ee
@@ -1249,9 +1277,9 @@ class _PendingPairs:
         # current one if no earlier event is unseen, else evaluated when needed (a tie in the
         # same re-sort)
         if i == i0 and j == j0:
-            old = pair.entry
+            old = _new_tuple(_Before, (pair.entry,))
         else:
-            old = _new_tuple(_LazySeq, (es, ee, pair.start, pair.end, pair.entry, i0, j0, i, j))
+            old = _new_tuple(_Before, (es, ee, pair.start, pair.end, pair.entry, i0, j0, i, j))
         if bd < ad or (bd == ad and bc < ac):
             pair.entry = (ad, ac, -t, bd, bc, old, pair)
         else:
