@@ -67,16 +67,19 @@ def _random_task(rng: random.Random, pruning: bool, cost_values=INTEGER_COSTS, m
     return t, log
 
 
-def _plan(seed: int, fast: bool, pruning: bool, **task_args):
-    saved = _PendingPairs.FAST
+def _plan(seed: int, fast: bool, pruning: bool, switch: bool = False, **task_args):
+    """Plan a random task; ``switch``: allow the switch to the list on long ties (_DEEP_TIES)."""
+    saved = _PendingPairs.FAST, stage_module._DEEP_TIES
     _PendingPairs.FAST = fast
+    if not switch:
+        stage_module._DEEP_TIES = 10**9  # test the fast mode's order all the way
     try:
         t, log = _random_task(random.Random(seed), pruning, **task_args)
         t.plan()
         modes = [s._pending._fast for s in t.stages if hasattr(s, "_pending")]
         return log, costs(t.solutions), modes
     finally:
-        _PendingPairs.FAST = saved
+        _PendingPairs.FAST, stage_module._DEEP_TIES = saved
 
 
 @pytest.mark.parametrize("seed", range(150))
@@ -106,8 +109,11 @@ def test_fast_equals_exact_with_rounding_costs(seed):
         assert fast_costs == exact_costs
 
 
-def _order_after_tied_moves(fast: bool, moves: int) -> list[int]:
-    """A start paired with three equal ends; the start's cost alternates ``moves`` times."""
+def _order_after_tied_moves(fast: bool, moves: int) -> tuple[list[int], bool]:
+    """A start paired with three equal ends; the start's cost alternates ``moves`` times.
+
+    Returns the order of the ends' pairs and whether the fast mode was kept.
+    """
     saved = _PendingPairs.FAST
     _PendingPairs.FAST = fast
     try:
@@ -122,15 +128,35 @@ def _order_after_tied_moves(fast: bool, moves: int) -> list[int]:
             start.updatePriority(Priority(1, float(k % 2)))  # better, worse, better, ...
             if k % 50 == 0:
                 ends[2].updatePriority(Priority(1, float(k % 3)))
-        return [ends.index(p.end) for p in con.pending]
+        return [ends.index(p.end) for p in con.pending], con.pending._fast
     finally:
         _PendingPairs.FAST = saved
 
 
-def test_long_tied_histories_compare_without_recursion():
+def test_long_tied_histories_compare_without_recursion(monkeypatch):
     """Pairs tied over 1,500 moves: their order is found in a loop (nested tuples exceeded the
     recursion limit here) and equals the list's."""
-    assert _order_after_tied_moves(True, 1500) == _order_after_tied_moves(False, 1500)
+    monkeypatch.setattr(stage_module, "_DEEP_TIES", 10**9)  # keep the fast mode
+    fast_order, kept = _order_after_tied_moves(True, 1500)
+    assert kept
+    assert fast_order == _order_after_tied_moves(False, 1500)[0]
+
+
+def test_long_ties_switch_to_the_list_with_the_same_order():
+    """Comparisons walking long tied histories are slow: the list takes over, in the same order."""
+    for moves in (300, 1500):
+        fast_order, kept = _order_after_tied_moves(True, moves)
+        assert fast_order == _order_after_tied_moves(False, moves)[0]
+        assert kept == (moves == 300)
+
+
+@pytest.mark.parametrize("seed", [103, *range(200, 230)])
+def test_switch_on_long_ties_keeps_the_order(seed):
+    """With the switch to the list on long ties (seed 103 switches), the order is the same."""
+    fast_log, fast_costs, _ = _plan(seed, True, False, switch=True)
+    exact_log, exact_costs, _ = _plan(seed, False, False)
+    assert fast_log == exact_log
+    assert fast_costs == exact_costs
 
 
 def test_tie_breaks_through_earlier_moves_are_exercised(monkeypatch):

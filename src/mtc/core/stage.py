@@ -1062,20 +1062,33 @@ def _compare_values(a: tuple, b: tuple) -> int:
     sum, -t or t, old -depth sum, old cost sum, _Before, pair)`` (moved at time t); the
     trailing pair is never reached, as values of different pairs differ before it.
     """
-    while a is not b:
-        if len(a) == 7 and len(b) == 7:
-            ha, hb = a[:5], b[:5]
-            if ha != hb:
-                return -1 if ha < hb else 1
-            # the same move, equal keys before: the older values (Before.value() inlined)
-            x, y = a[5], b[5]
-            a = x[0] if len(x) == 1 else x.value()
-            b = y[0] if len(y) == 1 else y.value()
-        else:
-            # an inserted pair on one side: its unique time decides within the first three
-            ha, hb = a[:3], b[:3]
-            return -1 if ha < hb else (1 if ha > hb else 0)
-    return 0
+    levels = 0
+    try:
+        while a is not b:
+            if len(a) == 7 and len(b) == 7:
+                ha, hb = a[:5], b[:5]
+                if ha != hb:
+                    return -1 if ha < hb else 1
+                # the same move, equal keys before: the older values (Before.value() inlined)
+                x, y = a[5], b[5]
+                a = x[0] if len(x) == 1 else x.value()
+                b = y[0] if len(y) == 1 else y.value()
+                levels += 1
+            else:
+                # an inserted pair on one side: its unique time decides within the first three
+                ha, hb = a[:3], b[:3]
+                return -1 if ha < hb else (1 if ha > hb else 0)
+        return 0
+    finally:
+        _walked[0] += levels
+
+
+# Levels of tied history walked by _compare_values. Pairs tied over long histories (many
+# states of equal priority) make the fast mode's comparisons slow, while the exact mode's
+# list handles them well: a pending-pair structure switches when its heap operations walk
+# more than _DEEP_TIES levels at once (the order is the same in both modes).
+_walked = [0]
+_DEEP_TIES = 2000
 
 
 def _prio_at(events: list, state: InterfaceState, version: int) -> tuple:
@@ -1297,6 +1310,7 @@ class _PendingPairs:
         if front is not None:
             return front  # nothing happened since it was found
         heap = self._heap
+        walked = _walked[0]
         while heap:
             entry = heap[0]
             pair = entry[-1]
@@ -1307,6 +1321,9 @@ class _PendingPairs:
             if (pair.vs != len(pair.es) or pair.ve != len(pair.ee)) and self._refresh(pair):
                 heapreplace(heap, pair.entry)  # one sift instead of a pop and a push
                 continue
+            if _walked[0] - walked > _DEEP_TIES:
+                self._toExact()  # long ties: see _DEEP_TIES
+                return self._pairs[0]
             self._front = pair
             return pair
         return None
@@ -1330,9 +1347,12 @@ class _PendingPairs:
         # depth decides first (larger is better), then cost (smaller is better)
         better = new[1] < old[1] or (new[1] == old[1] and new[2] < old[2])
         if better:
+            walked = _walked[0]
             for p in self._by_state.get(state, ()):
                 if self._refresh(p):
                     self._push(p)
+            if _walked[0] - walked > _DEEP_TIES:
+                self._toExact()  # long ties: see _DEEP_TIES
 
     def _toExact(self) -> None:
         """Switch to the exact list mode for good."""
@@ -1423,7 +1443,8 @@ class _PendingPairs:
 
     def pop(self) -> _Pair:
         if self._fast:
-            pair = self._front or self._top()
+            pair = self._front or self._top()  # (may switch to the exact mode)
+        if self._fast:
             heap = self._heap
             heappop(heap)
             pair.entry = None
