@@ -622,6 +622,13 @@ def _collect(direction: int, start: SolutionBase) -> list[tuple[list, tuple]]:
     nxt = start._end.outgoing if forward else start._start.incoming
     if not nxt:
         return [([], _ZERO)]
+    if len(nxt) == 1:
+        # the common case of one neighbouring solution that ends the path: _traverse's
+        # result without its call and list work
+        succ = nxt[0]
+        if not (succ._end.outgoing if forward else succ._start.incoming):
+            c = succ._cost
+            return [([succ], (0, -1, 0.0 + c))] if -INF < c < INF else []
     results: list[tuple[list, tuple]] = []
     _traverse(nxt, forward, 0, 0.0, [], results)
     return results
