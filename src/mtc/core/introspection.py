@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 from typing import Any
 
-__all__ = ["Introspection", "print_state", "solution_to_msg"]
+__all__ = ["Introspection", "print_state"]
 
 
 def print_state(container, file=None) -> None:
@@ -151,35 +151,3 @@ class Introspection:
             return self._loaded if self._loaded is not None else IntrospectionData.from_dict({"stages": self.stages})
         return IntrospectionData.from_dict(self.to_dict())
 
-
-def solution_to_msg(solution, introspection=None):
-    """``solution.toMsg()``: an ``mtc.msgs.Solution`` with one SubTrajectory per leaf, in order."""
-    from mtc import msgs
-
-    leaves: list = []
-    solution._leaves(leaves)
-    msg = msgs.Solution()
-    start = solution.start
-    if start is not None and hasattr(start.scene, "get_planning_scene_msg"):
-        msg.start_scene = start.scene.get_planning_scene_msg()
-    for leaf in leaves:
-        sub = msgs.SubTrajectory()
-        info = sub.info
-        info.id = introspection.solutionId(leaf) if introspection is not None else 0
-        info.cost = leaf.cost
-        info.comment = leaf.comment
-        info.stage_id = introspection.stageId(leaf.creator) if introspection is not None else 0
-        if leaf.creator is not None:
-            sub.execution_info.controller_names = list(leaf.creator.trajectoryExecutionInfo().controller_names)
-        if leaf.trajectory is not None:
-            sub.trajectory = leaf.trajectory.get_robot_trajectory_msg()
-        end_scene = leaf.end.scene if leaf.end is not None else None
-        if end_scene is not None and hasattr(end_scene, "get_planning_scene_msg"):
-            # as MTC: a diff if the end scene was derived from the start scene (or is it)
-            start_scene = leaf.start.scene if leaf.start is not None else None
-            sub.scene_diff = end_scene.get_planning_scene_msg()
-            derived = end_scene is start_scene or getattr(end_scene, "parent", None) is start_scene
-            if start_scene is not None and derived:
-                sub.scene_diff.is_diff = True
-        msg.sub_trajectory.append(sub)
-    return msg

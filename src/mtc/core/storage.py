@@ -566,9 +566,21 @@ class SolutionBase:
 
     def toMsg(self, introspection=None):
         """The solution as ``mtc.msgs.Solution`` (sub-trajectories in execution order)."""
-        from mtc.core.introspection import solution_to_msg
+        from mtc.core.export import solution_to_msg
 
         return solution_to_msg(self, introspection)
+
+    def toJSON(self, path=None, introspection=None) -> str:
+        """The solution message as JSON text (also written to ``path`` if given)."""
+        from mtc.core.export import solution_to_json
+
+        return solution_to_json(self, path, introspection)
+
+    def toArrays(self, joint_names=None):
+        """Times, positions, velocities per joint for a controller (``mtc.core.export.SolutionArrays``)."""
+        from mtc.core.export import solution_arrays
+
+        return solution_arrays(self, joint_names)
 
     def __repr__(self) -> str:
         creator = self._creator.name if self._creator is not None else None
