@@ -319,3 +319,15 @@ def test_arrays_of_solution_without_motion():
     assert arrays.joint_names == []
     assert arrays.positions.shape == (0, 0) and arrays.times.shape == (0,)
     assert arrays.segments == [None, None]
+
+
+def test_solution_methods(panda_task, tmp_path):
+    solution = panda_task.solutions[0]
+    assert solution.toMsg() == solution_to_msg(solution)
+    intro = panda_task.introspection()
+    assert solution.toMsg(intro) == solution_to_msg(solution, intro)
+    text = solution.toJSON(tmp_path / "s.json")
+    assert json.loads(text) == json.loads((tmp_path / "s.json").read_text()) == solution_to_dict(solution)
+    arrays = solution.toArrays()
+    np.testing.assert_array_equal(arrays.positions, solution_arrays(solution).positions)
+    assert solution.toArrays(joint_names=["panda_joint1"]).positions.shape[1] == 1
