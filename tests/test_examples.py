@@ -537,6 +537,8 @@ def test_seed_scripts_breaking_the_interface_rules_raise(monkeypatch, name, stag
         run_seed(name, monkeypatch)
     assert f"'{stage}'" in str(error.value)
     assert "interface" in str(error.value)
+    # beyond MTC (api.md): the message says how to fix it
+    assert f"To fix: '{stage}' waits for a state from a stage after it" in str(error.value)
 
 
 def test_seed_grasp_generator_without_object_and_eef_raises(monkeypatch):

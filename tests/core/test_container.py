@@ -392,10 +392,46 @@ def test_init_error_texts(t):
     t.add(GeneratorMockup())
     with pytest.raises(core.InitStageError) as info:
         t.plan()
+    # MTC's text, then (beyond MTC, api.md) how to fix it
     assert str(info.value) == (
         "Error initializing stage:\n"
         "task pipeline: cannot connect end interface of 'GEN1' (→) to start interface of 'GEN2' (←)"
+        ". To fix: both produce states; put a Connect between 'GEN1' and 'GEN2' to plan the motion between them"
     )
+
+
+def test_init_error_says_how_to_fix_a_task_ending_in_a_connector(t):
+    """A task ending in a Connect: MTC's words, then that it needs a state-providing stage after it."""
+    t.add(GeneratorMockup())
+    t.add(ConnectMockup())
+    with pytest.raises(core.InitStageError) as info:
+        t.plan()
+    text = str(info.value)
+    assert "end interface (←) of 'CON1' does not match mine (→)" in text
+    assert "To fix: 'CON1' waits for a state from a stage after it, but it is the last stage" in text
+
+
+def test_init_error_says_how_to_fix_a_task_starting_with_a_connector(t):
+    """A task starting with a Connect: it needs a generator before it."""
+    t.add(ConnectMockup())
+    t.add(GeneratorMockup())
+    with pytest.raises(core.InitStageError) as info:
+        t.plan()
+    text = str(info.value)
+    assert "start interface (→) of 'CON1' does not match mine (←)" in text
+    assert "To fix: 'CON1' waits for a state from a stage before it" in text
+    assert "start with a generator (CurrentState, FixedState)" in text
+
+
+def test_init_error_says_how_to_fix_two_neighbours_waiting_for_each_other(t):
+    """Connect, Connect between generators: both wait for a state from the other."""
+    t.add(GeneratorMockup())
+    t.add(ConnectMockup())
+    t.add(ConnectMockup())
+    t.add(GeneratorMockup())
+    with pytest.raises(core.InitStageError) as info:
+        t.plan()
+    assert "To fix: both wait for a state from the other; put a generator between 'CON1' and 'CON2'" in str(info.value)
 
 
 def test_init_error_collects_all(t):

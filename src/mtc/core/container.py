@@ -546,7 +546,8 @@ class SerialContainer(ContainerBase):
             raise InitStageError(
                 self,
                 f"{'start' if mask == START_IF_MASK else 'end'} interface ({sym(child_interface)}) of "
-                f"'{child._name}' does not match mine ({sym(required)})",
+                f"'{child._name}' does not match mine ({sym(required)})"
+                + _boundary_hint(self._name, child._name, mask, child_interface),
             )
 
     def _connectChildren(self, stage1: Stage, stage2: Stage) -> None:
@@ -560,7 +561,7 @@ class SerialContainer(ContainerBase):
             raise InitStageError(
                 self,
                 f"cannot connect end interface of '{stage1._name}' ({_end_sym(flags1)}) to start interface of "
-                f"'{stage2._name}' ({_start_sym(flags2)})",
+                f"'{stage2._name}' ({_start_sym(flags2)})" + _neighbour_hint(stage1._name, stage2._name, flags1, flags2),
             )
 
     def _resolveInterface(self, expected: int) -> None:
@@ -1010,6 +1011,43 @@ class Merger(ParallelContainerBase):
 
 class MergeError(RuntimeError):
     """Trajectories that cannot be merged (overlapping joints, different robots, ...)."""
+
+
+# Beyond MTC, interface errors say how to fix them (api.md): the hints below follow the flags.
+def _boundary_hint(container: str, child: str, mask: int, child_interface: int) -> str:
+    """How to fix a first (mask START) or last (mask END) child whose interface does not fit."""
+    if mask == END_IF_MASK and child_interface & READS_END:
+        return (
+            f". To fix: '{child}' waits for a state from a stage after it, but it is the last stage of "
+            f"'{container}': add a stage after it that provides that state (a generator such as "
+            f"FixedState, or ComputeIK around a pose generator), or move it before one"
+        )
+    if mask == START_IF_MASK and child_interface & READS_START:
+        return (
+            f". To fix: '{child}' waits for a state from a stage before it, but it is the first stage of "
+            f"'{container}': start with a generator (CurrentState, FixedState) before it"
+        )
+    if child_interface & (WRITES_NEXT_START | WRITES_PREV_END):
+        return (
+            f". To fix: '{child}' produces states where '{container}' receives them from its neighbour: "
+            f"connect the two with a Connect stage, or move '{child}' so a propagator or Connect follows it"
+        )
+    return ""
+
+
+def _neighbour_hint(first: str, second: str, flags1: int, flags2: int) -> str:
+    """How to fix two neighbours that cannot hand states to each other."""
+    if (flags1 & WRITES_NEXT_START) and (flags2 & WRITES_PREV_END):
+        return (
+            f". To fix: both produce states; put a Connect between '{first}' and '{second}' to plan "
+            f"the motion between them"
+        )
+    if (flags1 & READS_END) and (flags2 & READS_START):
+        return (
+            f". To fix: both wait for a state from the other; put a generator between '{first}' and "
+            f"'{second}', or let one of them propagate (restrictDirection)"
+        )
+    return ""
 
 
 def merge_trajectories(trajectories: list, start_state, time_parameterization=None):
