@@ -20,6 +20,8 @@ ComputeIK spawns its own solutions (``SubTrajectory`` without trajectory), not w
 Determinism (beyond MTC): the random IK seeds come from a generator seeded with the ``seed``
 property and the number of child solutions handled since ``reset()``, and the search makes
 at most ``max_ik_attempts`` descents per wanted solution, none of them cut short by the clock.
+A target none of the first ``max_ik_attempts`` descents reaches is given up ("no IK found")
+instead of spending the budgets of the other wanted solutions on it as well.
 MTC's default ``timeout`` is the group's IK timeout, the budget of one IK call; here every
 descent is such a call, so the default ``timeout`` is the group's IK timeout times the number
 of descents allowed. The attempt budget then ends the search, not the clock, and the same
@@ -132,7 +134,8 @@ class ComputeIK(WrapperBase):
         target_pose: ``PoseStamped`` to reach (read from the child's states by default).
         timeout: Time limit per target [s] (default: the group's IK timeout per allowed descent).
         seed: Seed of the random IK restarts (default 0).
-        max_ik_attempts: IK descents per wanted solution (default 20).
+        max_ik_attempts: IK descents per wanted solution (default 20); when none of the first
+            ``max_ik_attempts`` descents converges, the target counts as unreachable.
     """
 
     def __init__(self, name: str = "IK", stage: Stage | None = None):
@@ -264,7 +267,8 @@ class ComputeIK(WrapperBase):
         # each descent is such a call, so the default allows the group's IK timeout per descent
         # and the attempt budget, not the clock, ends the search (see the module docstring)
         max_solutions = p.get("max_ik_solutions")
-        max_attempts = max(1, p.get("max_ik_attempts")) * max(1, max_solutions)
+        attempts_per_solution = max(1, p.get("max_ik_attempts"))
+        max_attempts = attempts_per_solution * max(1, max_solutions)
         p.property("timeout").setDefaultValue(float(jmg.default_ik_timeout) * max_attempts)
 
         # 3. target pose in the planning frame
@@ -353,6 +357,12 @@ class ComputeIK(WrapperBase):
         attempts = 0
         while found < max_solutions and attempts < max_attempts:
             if attempts > 0 and time.perf_counter() >= deadline:
+                break
+            if not recorded and attempts >= attempts_per_solution:
+                # the budget of the first solution is spent without any descent converging: the
+                # target is out of reach (for the demo's grasp angles that the arm cannot take,
+                # the remaining (max_ik_solutions - 1) budgets would all fail as well); a
+                # reachable target converges within a few descents (the demo's: within 16)
                 break
             q = start_q.copy()
             if attempts > 0:
