@@ -66,51 +66,17 @@ def _inverse(T: np.ndarray) -> np.ndarray:
     return inv
 
 
-def descendant_links(robot_model, link: str) -> set[str]:
-    """``link`` and every link below it (the links that move when ``link`` is placed)."""
-    pm = robot_model.pinocchio_model
-    joint = pm.frames[robot_model.frame_id(link)].parentJoint
-    if joint == 0:  # fixed to the root: the whole robot hangs below it
-        return set(robot_model.link_model_names)
-    subtree = set(pm.subtrees[joint])
-    out = {link}
-    for name in robot_model.link_model_names:
-        if pm.frames[robot_model.frame_id(name)].parentJoint in subtree:
-            out.add(name)
-    return out
-
-
 def eef_collisions(scene, link: str, link_target: np.ndarray) -> list[tuple[str, str]]:
     """Collisions with world objects of ``link``, the links below it and the objects attached
     to them, were ``link`` placed at ``link_target`` (4x4, planning frame) with the rest of
     the state unchanged (MTC's ``isTargetPoseCollidingInEEF``).
 
-    The scene's API checks robot states only, so instead of moving the end effector to the
-    target, the world is moved by the inverse motion: the relative placement, and so every
-    contact, is the same. Only pairs of a moved body and a world object are reported.
+    The scene's own end-effector-at-pose check moves the bodies' placements in the scene's
+    collision set-up (built once per scene and shared by the candidates' diffs), instead of
+    a probe scene with moved world objects and a collision set-up of its own per target:
+    the same pairs at under half the cost.
     """
-    state = scene.current_state
-    motion = link_target @ _inverse(state.get_global_link_transform(link))
-    back = _inverse(motion)
-    world = scene.world_object_names
-    if not world:
-        return []
-    probe = scene.diff()
-    for name in world:
-        obj = probe.get_world_object(name)
-        probe.apply_collision_object(
-            msgs.CollisionObject(
-                id=name, operation=msgs.CollisionObject.MOVE, pose=msgs.matrix_to_pose(back @ obj.pose)
-            )
-        )
-    moved = descendant_links(scene.robot_model, link)
-    moved |= {name for name in scene.attached_object_names if scene.get_attached_object(name).link in moved}
-    world_set = set(world)
-    pairs = []
-    for a, b in probe.get_collisions():
-        if (a in moved and b in world_set) or (b in moved and a in world_set):
-            pairs.append((a, b))
-    return pairs
+    return scene.get_link_collisions_at(link, link_target)
 
 
 class ComputeIK(WrapperBase):
