@@ -329,6 +329,10 @@ class _EdgeChecker:
         self._valid_states: set[bytes] = set()  # states known valid (tree vertices, ends)
         self._coarse_edges: set[bytes] = set()  # edges valid at the search resolution
         self._fine_edges: set[bytes] = set()  # edges valid at the full resolution
+        self._contiguous = isinstance(self._cols, slice)
+        self._buf = np.repeat(self._base[None, :], 64, axis=0)  # states of one edge
+        self._coarse_t: dict[int, np.ndarray] = {}
+        self._fine_t: dict[int, np.ndarray] = {}
 
     def full(self, x: np.ndarray) -> np.ndarray:
         q = self._base.copy()
@@ -357,24 +361,63 @@ class _EdgeChecker:
 
     def segments(self, a: np.ndarray, b: np.ndarray) -> int:
         """Number of (fine) segments an edge is checked and interpolated in."""
-        d = float(np.abs(b - a).max()) if a.size else 0.0
-        return max(1, math.ceil(d / self.coarse - 1e-9)) * self.ratio
+        return self._coarse_segments(b - a) * self.ratio
+
+    def _coarse_segments(self, d: np.ndarray) -> int:
+        dl = d.tolist()  # a handful of floats: Python's max beats two numpy reductions
+        dmax = max(max(dl), -min(dl)) if dl else 0.0
+        return max(1, math.ceil(dmax / self.coarse - 1e-9))
 
     _order = staticmethod(_bisection_order)
 
-    def _check_params(self, a: np.ndarray, b: np.ndarray, t: np.ndarray) -> bool:
+    def _coarse_params(self, n: int) -> np.ndarray:
+        """Edge parameters of the search's states of an edge in ``n`` coarse segments, end
+        first and then by bisection (cached: the per-edge numpy work is most of the Python
+        overhead of a check)."""
+        t = self._coarse_t.get(n)
+        if t is None:
+            t = self._order(n) / n
+            if len(self._coarse_t) < 4096:
+                self._coarse_t[n] = t
+        return t
+
+    def _fine_params(self, n: int) -> np.ndarray:
+        """Edge parameters of the fine states the search skipped, for ``n`` coarse segments."""
+        t = self._fine_t.get(n)
+        if t is None:
+            m = n * self.ratio
+            order = self._order(m)
+            t = order[order % self.ratio != 0] / m
+            if len(self._fine_t) < 4096:
+                self._fine_t[n] = t
+        return t
+
+    def _check_params(self, a: np.ndarray, d: np.ndarray, t: np.ndarray) -> bool:
+        """Whether the states ``a + t_i d`` are valid, checked in the order of ``t``."""
         t0 = time.perf_counter()
-        # all states of the edge in one numpy operation; checked one by one, blocked early out
-        Q = np.repeat(self._base[None, :], len(t), axis=0)
-        Q[:, self._cols] = a + t[:, None] * (b - a)
+        m = len(t)
+        # the states are written into a buffer holding the base state (the other variables)
+        if m > len(self._buf):
+            self._buf = np.repeat(self._base[None, :], max(m, 2 * len(self._buf)), axis=0)
+        Q = self._buf[:m]
+        if self._contiguous:
+            view = Q[:, self._cols]
+            np.multiply(t[:, None], d, out=view)
+            view += a
+        else:
+            Q[:, self._cols] = a + t[:, None] * d
         if self._mimic:
             self._model.enforce_mimic(Q)
         ok = True
-        check = self._check_full
-        for q in Q:
-            if not check(q):
+        cf = self._collision_free
+        cons = self._constraints
+        checked = m
+        for i, q in enumerate(Q):
+            if not cf(q) or (cons is not None and not cons(q)):
                 ok = False
+                checked = i + 1
                 break
+        self.states_checked += checked
         self.check_time += time.perf_counter() - t0
         return ok
 
@@ -385,19 +428,21 @@ class _EdgeChecker:
             return self.edge_ok_fine(a, b)
         return self._edge_ok_coarse(a, b)
 
-    def _edge_ok_coarse(self, a: np.ndarray, b: np.ndarray) -> bool:
-        key = a.tobytes() + b.tobytes()
+    def _edge_ok_coarse(self, a: np.ndarray, b: np.ndarray, key: bytes | None = None) -> bool:
+        kb = b.tobytes()
+        if key is None:
+            key = a.tobytes() + kb
         if key in self._coarse_edges or key in self._fine_edges:
             return True
-        n = self.segments(a, b) // self.ratio
-        order = self._order(n)
-        if b.tobytes() in self._valid_states:
-            order = order[1:]  # the end is known valid
-        ok = self._check_params(a, b, order / n)
+        d = b - a
+        t = self._coarse_params(self._coarse_segments(d))
+        if kb in self._valid_states:
+            t = t[1:]  # the end is known valid
+        ok = self._check_params(a, d, t)
         if ok:
             self._coarse_edges.add(key)
-            self._coarse_edges.add(b.tobytes() + a.tobytes())
-            self._valid_states.add(b.tobytes())
+            self._coarse_edges.add(kb + a.tobytes())
+            self._valid_states.add(kb)
         return ok
 
     def edge_ok_fine(self, a: np.ndarray, b: np.ndarray) -> bool:
@@ -405,13 +450,12 @@ class _EdgeChecker:
         key = a.tobytes() + b.tobytes()
         if key in self._fine_edges:
             return True
-        if not self._edge_ok_coarse(a, b):
+        if not self._edge_ok_coarse(a, b, key):
             return False
         if self.ratio > 1:
-            n = self.segments(a, b)
-            order = self._order(n)
-            rest = order[order % self.ratio != 0]  # the others were checked by edge_ok
-            if rest.size and not self._check_params(a, b, rest / n):
+            d = b - a
+            rest = self._fine_params(self._coarse_segments(d))  # the others were checked by edge_ok
+            if rest.size and not self._check_params(a, d, rest):
                 return False
         self._fine_edges.add(key)
         self._fine_edges.add(b.tobytes() + a.tobytes())
@@ -440,8 +484,8 @@ class _MotionValidator(ob.MotionValidator):
 
     def checkMotion(self, s1, s2, *_last_valid) -> bool:  # noqa: N802 (OMPL's name)
         k = self._k
-        a = np.fromiter((s1[i] for i in k), dtype=float, count=len(k))
-        b = np.fromiter((s2[i] for i in k), dtype=float, count=len(k))
+        a = np.array(list(map(s1.__getitem__, k)))
+        b = np.array(list(map(s2.__getitem__, k)))
         return self._checker.edge_ok(a, b)
 
 
@@ -1040,7 +1084,7 @@ class OMPLPipeline:
             rng_k = range(k)
 
             def is_valid(state) -> bool:
-                return checker.state_ok(np.fromiter((state[i] for i in rng_k), dtype=float, count=k))
+                return checker.state_ok(np.array(list(map(state.__getitem__, rng_k))))
 
             ss.setStateValidityChecker(is_valid)
             si.setMotionValidator(_MotionValidator(si, checker, k))
