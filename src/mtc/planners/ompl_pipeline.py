@@ -24,7 +24,10 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    every :data:`DEFAULT_SEARCH_RATIO`-th state (0.06 rad apart); the answer is checked at
    every state (:data:`DEFAULT_RESOLUTION`, 0.015 rad), and an edge of the search's path that
    fails there is replanned with full checks. Start and goal are exact; the goal tolerance
-   only admits goals already that close.
+   only admits goals already that close. RRTConnect (the default) that has not found a path
+   after :data:`FALLBACK_CHECKS` state checks hands over to :data:`FALLBACK_PLANNER`
+   (BKPIECE1), then gets the next turn with a new seed, the budget doubling each turn: a
+   start or goal in a trap keeps RRTConnect's trees stuck for seconds, BKPIECE1 gets out.
 5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
    points on the path, bounded by counts so that a seed gives one result), then
    interpolated to waypoints at most ``maximum extent / 100`` apart (at least
@@ -104,6 +107,13 @@ DEFAULT_RANGE = 0.5
 #: The search checks every 4th state along its edges (0.06 rad apart); the returned path is
 #: then checked at every state (:data:`DEFAULT_RESOLUTION`).
 DEFAULT_SEARCH_RATIO = 4
+#: State checks of RRTConnect's first run before :data:`FALLBACK_PLANNER` takes over (see
+#: :meth:`OMPLPipeline._run_ompl`). The median MotionBenchMaker problem needs 300-1000; with
+#: 1000, 2000 and 4000 the benchmark's slowest problems (RRTConnect alone: 8 000 - 77 000)
+#: took at most ~15 000, with 2000 the fewest checks in all.
+FALLBACK_CHECKS = 2000
+#: The planner that alternates with RRTConnect when that is stuck.
+FALLBACK_PLANNER = "BKPIECE1"
 
 #: Time budget [s] of a request whose timeout is infinite (MoveIt's default planning time).
 UNBOUNDED_TIMEOUT = 5.0
@@ -1060,12 +1070,43 @@ class OMPLPipeline:
     # ------------------------------------------------------------------ OMPL
     def _run_ompl(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
                   share=None):
-        """One attempt with an OMPL planner: (path as n x k array, "") or (None, message)."""
+        """One attempt with an OMPL planner: (path as n x k array, "") or (None, message).
+
+        RRTConnect's run time is heavy-tailed: a start or goal in a trap (a narrow way out,
+        joints near their limits) keeps its tree stuck for seconds. So RRTConnect runs until
+        it has checked :data:`FALLBACK_CHECKS` states, then :data:`FALLBACK_PLANNER` (whose
+        cell-based expansion favours the least explored regions) gets twice as many, then
+        RRTConnect again with a new seed, and so on, the budget doubling each time. Budgets
+        count state checks, not time, so a seed still gives one result."""
+        if cls_name != "RRTConnect" or FALLBACK_PLANNER not in _PLANNERS.values():
+            path, message, _ = self._ompl_once(req, x_start, goals, cls_name, seed, share, None)
+            return path, message
+        budget = FALLBACK_CHECKS
+        run = 0
+        while True:
+            name = cls_name if run % 2 == 0 else FALLBACK_PLANNER
+            path, message, cut = self._ompl_once(req, x_start, goals, name, seed + 104729 * run, share, budget)
+            if not cut:
+                if path is not None and name != cls_name:
+                    self.last_stats.planner = name
+                if run > 0 and message:
+                    message = message.replace(f"({name})", f"({cls_name}, {FALLBACK_PLANNER})")
+                return path, message
+            log.debug("%s: no path after %d state checks, trying %s", name, budget,
+                      FALLBACK_PLANNER if name == cls_name else cls_name)
+            run += 1
+            budget *= 2
+
+    def _ompl_once(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
+                   share, budget: int | None):
+        """One OMPL run: (path, message, cut); ``cut`` is True when the run stopped because
+        it checked ``budget`` states (the caller goes on with another run), not because of
+        the time."""
         remaining = req.deadline - time.perf_counter()
         if share is not None:
             remaining = min(remaining, share)
         if remaining <= 0:
-            return None, f"TIMED_OUT: no solution found in {req.deadline - req.t0:.3g} s ({cls_name})"
+            return None, f"TIMED_OUT: no solution found in {req.deadline - req.t0:.3g} s ({cls_name})", False
         k = req.group.variable_count
         with _quiet_ompl():
             ou.RNG.setSeed(_ompl_seed(seed))  # before any OMPL object draws its own seed
@@ -1112,7 +1153,20 @@ class OMPLPipeline:
                 planner.setRange(self.planner_range)
             ss.setPlanner(planner)
             ss.setup()
-            status = ss.solve(remaining)
+            cut = [False]
+            if budget is None:
+                status = ss.solve(remaining)
+            else:
+                stop_at = time.perf_counter() + remaining
+                limit = checker.states_checked + budget
+
+                def stop() -> bool:
+                    if checker.states_checked >= limit:
+                        cut[0] = True
+                        return True
+                    return time.perf_counter() >= stop_at
+
+                status = ss.solve(ob.PlannerTerminationCondition(stop))
             status_type = status.getStatus()
             exact = ss.haveExactSolutionPath()
             path = None
@@ -1125,11 +1179,16 @@ class OMPLPipeline:
             # OMPL's path must start and end exactly at our states; every edge was validated
             # by the motion validator, checked again only if not (e.g. a planner's own edges)
             if not checker.path_ok(path):
-                return None, f"PLANNING_FAILED: {cls_name} returned a path that fails validation"
-            return path, ""
-        if status_type == ob.PlannerStatus.TIMEOUT or time.perf_counter() >= req.deadline:
-            return None, f"TIMED_OUT: no solution found in {req.deadline - req.t0:.3g} s ({cls_name})"
-        return None, f"PLANNING_FAILED: {cls_name}: {status_text}"
+                return None, f"PLANNING_FAILED: {cls_name} returned a path that fails validation", False
+            return path, "", False
+        timed_out = f"TIMED_OUT: no solution found in {req.deadline - req.t0:.3g} s ({cls_name})"
+        if time.perf_counter() >= req.deadline:
+            return None, timed_out, False
+        if cut[0]:
+            return None, "", True
+        if status_type == ob.PlannerStatus.TIMEOUT:
+            return None, timed_out, False
+        return None, f"PLANNING_FAILED: {cls_name}: {status_text}", False
 
     # ------------------------------------------------------------------ constrained
     def _run_constrained(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
