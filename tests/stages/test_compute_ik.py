@@ -286,3 +286,22 @@ def test_forwarded_properties_reach_the_ik_states(make_task):
     ik.setForwardedProperties(["target_pose"])
     assert task.plan()
     assert ik.solutions[0].end.properties["target_pose"].pose.position.z == pytest.approx(0.1)
+
+
+def test_unreachable_target_is_given_up_after_max_ik_attempts(make_task, monkeypatch):
+    """A target none of the first max_ik_attempts descents reaches fails after those descents,
+    not after max_ik_solutions x max_ik_attempts of them."""
+    from mtc.planners import ik as ik_module
+
+    descents = []
+    solve = ik_module.IKSolver.solve
+
+    def counting_solve(self, *args, **kwargs):
+        descents.append(1)
+        return solve(self, *args, **kwargs)
+
+    monkeypatch.setattr(ik_module.IKSolver, "solve", counting_solve)
+    task, ik = _ik_task(make_task, _pose("world", x=2.0, z=0.5), max_ik_solutions=8, max_ik_attempts=3)
+    assert not task.plan()
+    assert [f.comment for f in ik.failures] == ["no IK found"]
+    assert len(descents) == 3
