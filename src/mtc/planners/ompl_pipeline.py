@@ -1022,7 +1022,11 @@ class OMPLPipeline:
         rng = np.random.default_rng([int(seed), 2])
         out = _shortcut(path, checker.edge_ok, rng, deadline)
         if not checker.path_ok(out, fine=True):
-            repaired = self._repair(req, path, runner, cls_name, seed)
+            # replan the failing edges of the shortened path (a few, short); the search's own
+            # path is longer and would need every one of its edges checked in full
+            repaired = self._repair(req, out, runner, cls_name, seed)
+            if repaired is None:
+                repaired = self._repair(req, path, runner, cls_name, seed)
             out = repaired
             if repaired is not None:
                 again = _shortcut(repaired, checker.edge_ok_fine, rng, deadline)
