@@ -1013,9 +1013,10 @@ class OMPLPipeline:
 
     def _finalize(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int):
         """Shortcut a path the search found (its edges valid at the search resolution) and make
-        sure the result is valid at the full resolution. Edges of the search's path that fail
-        the full check are replanned with full checks (a short sub-search each). None if that
-        does not succeed in time."""
+        sure the result is valid at the full resolution. Edges of the shortened path that fail
+        the full check are replanned with full checks (a short sub-search each; the search's
+        own path is repaired that way if this fails), and the result shortened again with full
+        checks. None if that does not succeed in time."""
         t0 = time.perf_counter()
         checker = req.checker
         deadline = req.deadline
