@@ -33,6 +33,7 @@ import argparse
 import cProfile
 import pstats
 import runpy
+import sys
 import statistics
 import time
 from collections import defaultdict
@@ -43,6 +44,9 @@ from mtc import core
 from mtc.planners.planner_interface import PlannerInterface
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
+# the examples import their shared runner (examples/_demo.py) as a script would find it
+if str(EXAMPLES) not in sys.path:
+    sys.path.insert(0, str(EXAMPLES))
 EXAMPLE_NAMES = ("pickplace", "pick_place_demo")
 
 

@@ -10,9 +10,9 @@ Run: ``python examples/generate_pose.py [--view]``
 
 from __future__ import annotations
 
-import argparse
-import mtc
 from mtc import core, stages
+
+from _demo import run_example  # examples/_demo.py: plan, report, --view
 from mtc.msgs import PoseStamped
 
 
@@ -42,28 +42,7 @@ def make_task() -> core.Task:
 
 def main(argv: list[str] | None = None) -> core.Task:
     """Plan the task headless and print the result; ``--view`` shows it in a browser."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--view", action="store_true", help="show the solution in a meshcat viewer")
-    args = parser.parse_args(argv)
-
-    viewer = None
-    if args.view:
-        from mtc.viewer import Viewer
-
-        viewer = Viewer(mtc.robots.panda())
-        print("viewer at", viewer.url)
-
-    task = make_task()
-    result = task.plan()
-    task.printState()
-    if not result:
-        task.explainFailure()  # which stages failed, and why
-    print(f"plan: {result}, {len(task.solutions)} solution(s), costs:",
-          [round(s.cost, 4) for s in task.solutions])
-    if viewer is not None and task.solutions:
-        task.publish(task.solutions[0])
-        viewer.hold()
-    return task
+    return run_example(make_task, __doc__, argv)
 
 
 if __name__ == "__main__":

@@ -10,11 +10,11 @@ deterministic). Run: ``python examples/modular.py [--view]``
 
 from __future__ import annotations
 
-import argparse
 from math import pi
 
-import mtc
 from mtc import core, stages
+
+from _demo import run_example  # examples/_demo.py: plan, report, --view
 from mtc.msgs import Header, Twist, TwistStamped, Vector3, Vector3Stamped
 
 
@@ -60,28 +60,7 @@ def make_task() -> core.Task:
 
 def main(argv: list[str] | None = None) -> core.Task:
     """Plan the task headless and print the result; ``--view`` shows it in a browser."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--view", action="store_true", help="show the solution in a meshcat viewer")
-    args = parser.parse_args(argv)
-
-    viewer = None
-    if args.view:
-        from mtc.viewer import Viewer
-
-        viewer = Viewer(mtc.robots.panda())
-        print("viewer at", viewer.url)
-
-    task = make_task()
-    result = task.plan()
-    task.printState()
-    if not result:
-        task.explainFailure()  # which stages failed, and why
-    print(f"plan: {result}, {len(task.solutions)} solution(s), costs:",
-          [round(s.cost, 4) for s in task.solutions])
-    if viewer is not None and task.solutions:
-        task.publish(task.solutions[0])
-        viewer.hold()
-    return task
+    return run_example(make_task, __doc__, argv)
 
 
 if __name__ == "__main__":

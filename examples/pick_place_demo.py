@@ -109,7 +109,6 @@ def make_task() -> core.Task:
 
     sampling_planner = core.PipelinePlanner()
     sampling_planner.goal_joint_tolerance = 1e-5
-    interpolation_planner = core.JointInterpolationPlanner()
     cartesian_planner = core.CartesianPath()
     cartesian_planner.max_velocity_scaling_factor = 1.0
     cartesian_planner.max_acceleration_scaling_factor = 1.0

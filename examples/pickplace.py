@@ -13,12 +13,12 @@ Run: ``python examples/pickplace.py [--view]``
 
 from __future__ import annotations
 
-import argparse
 import math
 
-import mtc
 from mtc import PlanningSceneInterface, core, stages
 from mtc.msgs import Constraints, OrientationConstraint, PoseStamped, TwistStamped
+
+from _demo import run_example  # examples/_demo.py: plan, report, --view
 
 
 MAX_SOLUTIONS = 10  # MTC's script plans until the search space is exhausted; 10 suffice here
@@ -141,28 +141,7 @@ def make_task() -> core.Task:
 
 def main(argv: list[str] | None = None) -> core.Task:
     """Plan the task headless and print the result; ``--view`` shows it in a browser."""
-    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--view", action="store_true", help="show the solution in a meshcat viewer")
-    args = parser.parse_args(argv)
-
-    viewer = None
-    if args.view:
-        from mtc.viewer import Viewer
-
-        viewer = Viewer(mtc.robots.panda())
-        print("viewer at", viewer.url)
-
-    task = make_task()
-    result = task.plan(max_solutions=MAX_SOLUTIONS)
-    task.printState()
-    if not result:
-        task.explainFailure()  # which stages failed, and why
-    print(f"plan: {result}, {len(task.solutions)} solution(s), costs:",
-          [round(s.cost, 4) for s in task.solutions])
-    if viewer is not None and task.solutions:
-        task.publish(task.solutions[0])
-        viewer.hold()
-    return task
+    return run_example(make_task, __doc__, argv, max_solutions=MAX_SOLUTIONS)
 
 
 if __name__ == "__main__":
