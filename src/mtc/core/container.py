@@ -281,12 +281,20 @@ class ContainerBase(Stage):
         self._properties.set("pruning", bool(pruning))
 
     def canCompute(self) -> bool:
-        """Whether some child can compute."""
-        raise NotImplementedError
+        """Whether some child can compute (Serial, Alternatives and Merger use this as is)."""
+        for child in self._children:
+            if child._canCompute():
+                return True
+        return False
 
     def compute(self) -> None:
-        """Compute children."""
-        raise NotImplementedError
+        """Compute every child that can compute at the moment it is visited: in a serial
+        container a generator's output is consumed by the propagators after it in the same pass
+        (semantics §0.1.4). MTC's Alternatives and Merger compute every child unchecked (UB for
+        an idle Connecting); mtc computes only those that can."""
+        for child in self._children:
+            if child._canCompute():
+                child._runCompute()
 
     def _canCompute(self) -> bool:
         return self.canCompute()
@@ -490,18 +498,6 @@ class SerialContainer(ContainerBase):
 
     def __init__(self, name: str = "SerialContainer"):
         super().__init__(name)
-
-    def canCompute(self) -> bool:
-        for child in self._children:
-            if child._canCompute():
-                return True
-        return False
-
-    def compute(self) -> None:
-        # every child is visited once per pass, computed if it can at that moment
-        for child in self._children:
-            if child._canCompute():
-                child._runCompute()
 
     def onNewSolution(self, current: SolutionBase) -> None:
         incoming = _collect(BACKWARD, current)
@@ -748,18 +744,6 @@ class Alternatives(ParallelContainerBase):
     def __init__(self, name: str = "Alternatives"):
         super().__init__(name)
 
-    def canCompute(self) -> bool:
-        for child in self._children:
-            if child._canCompute():
-                return True
-        return False
-
-    def compute(self) -> None:
-        # MTC computes every child unchecked (UB for an idle Connecting); mtc only those that can
-        for child in self._children:
-            if child._canCompute():
-                child._runCompute()
-
     def onNewSolution(self, solution: SolutionBase) -> None:
         self.liftSolution(solution)
 
@@ -929,17 +913,6 @@ class Merger(ParallelContainerBase):
         if required == CONNECT:
             raise InitStageError(self, "Cannot merge connecting stages. Use Connect.")
         raise InitStageError(self, "Children's interface not supported.")
-
-    def canCompute(self) -> bool:
-        for child in self._children:
-            if child._canCompute():
-                return True
-        return False
-
-    def compute(self) -> None:
-        for child in self._children:
-            if child._canCompute():
-                child._runCompute()
 
     def onNewSolution(self, solution: SolutionBase) -> None:
         if solution.isFailure:
