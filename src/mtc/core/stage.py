@@ -273,9 +273,6 @@ class Stage(TypedPropertyAccess):
         """The stage's properties."""
         return self._properties
 
-    def _property_map(self) -> PropertyMap:
-        return self._properties
-
     def setProperty(self, name: str, value) -> None:
         """Set a property (declared with the value's type if unknown)."""
         self._properties.set(name, value)

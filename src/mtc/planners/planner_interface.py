@@ -196,9 +196,6 @@ class PlannerInterface(TypedPropertyAccess, ABC):
         """The planner's properties (read-only attribute; the map itself is mutable)."""
         return self._properties
 
-    def _property_map(self) -> PropertyMap:
-        return self._properties
-
     def setProperty(self, name: str, value) -> None:
         """Set a property (declaring it if it is new)."""
         self._properties.set(name, value)
