@@ -730,3 +730,16 @@ def test_bounding_volume_and_constraints_round_trip():
         orientation_constraints=[oc],
     )
     assert from_dict(Constraints, to_dict(c)) == c
+
+
+def test_rotation_angle_and_axis_angle_round_trip():
+    """axis_angle_matrix(axis, a) has rotation_angle a, accurate down to tiny angles and up to pi."""
+    rng = np.random.default_rng(3)
+    for angle in (0.0, 1e-9, 1e-5, 0.3, 1.0, math.pi / 2, 3.0, math.pi):
+        axis = rng.normal(size=3)
+        R = msgs.axis_angle_matrix(axis, angle)
+        np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
+        assert msgs.rotation_angle(R) == pytest.approx(angle, rel=1e-9, abs=1e-15)
+    assert np.array_equal(msgs.axis_angle_matrix([0.0, 0.0, 0.0], 1.0), np.eye(3))
+    # the acos form would give 0 here: 1e-9 rad is below its resolution
+    assert msgs.rotation_angle(msgs.axis_angle_matrix([0, 0, 1], 1e-9)) > 0

@@ -118,6 +118,8 @@ __all__ = [
     # conversions
     "quaternion_to_matrix",
     "matrix_to_quaternion",
+    "rotation_angle",
+    "axis_angle_matrix",
     "pose_to_matrix",
     "matrix_to_pose",
     "pose_to_se3",
@@ -953,6 +955,27 @@ def _quaternion_from_rotation(R: np.ndarray, function: str) -> Quaternion:
             break
     w, x, y, z = (c + 0.0 for c in values)  # + 0.0 turns -0.0 into 0.0
     return Quaternion(x=x, y=y, z=z, w=w)
+
+
+def rotation_angle(R: Any) -> float:
+    """Angle [rad, 0..pi] of a 3x3 rotation matrix (of ``A.T @ B`` for the angle between two
+    orientations). Uses atan2 of the skew and trace parts, which stays accurate for tiny
+    angles, where ``acos((trace - 1) / 2)`` loses half the digits."""
+    R = np.asarray(R, dtype=float)
+    skew = math.hypot(R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1])
+    return math.atan2(0.5 * skew, 0.5 * (R[0, 0] + R[1, 1] + R[2, 2] - 1.0))
+
+
+def axis_angle_matrix(axis: Any, angle: float) -> np.ndarray:
+    """3x3 rotation by ``angle`` [rad] about ``axis`` (normalized here; a zero axis or angle
+    gives the identity), by Rodrigues' formula."""
+    axis = np.asarray(axis, dtype=float)
+    norm = float(np.linalg.norm(axis))
+    if angle == 0.0 or norm == 0.0:
+        return np.eye(3)
+    x, y, z = axis / norm
+    K = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
+    return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
 
 
 def matrix_to_quaternion(R: Any) -> Quaternion:

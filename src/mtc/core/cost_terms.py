@@ -20,6 +20,7 @@ from enum import IntEnum
 
 import numpy as np
 
+from mtc import msgs
 from mtc.core.storage import SolutionSequence, WrappedSolution
 
 __all__ = [
@@ -276,13 +277,6 @@ class LinkMotion(TrajectoryCostTerm):
         return total
 
 
-def _rotation_angle(r_a: np.ndarray, r_b: np.ndarray) -> float:
-    """Angle [rad] of the relative rotation (as Eigen's quaternion angularDistance)."""
-    r = r_a.T @ r_b
-    c = (np.trace(r) - 1.0) / 2.0
-    return float(math.acos(max(-1.0, min(1.0, c))))
-
-
 class LinkRotation(TrajectoryCostTerm):
     """Accumulated rotation [rad] of a link (or frame) over the trajectory."""
 
@@ -300,7 +294,7 @@ class LinkRotation(TrajectoryCostTerm):
         total = 0.0
         for w in wps[1:]:
             cur = _link_transform(w, self.link_name)
-            total += _rotation_angle(prev[:3, :3], cur[:3, :3])
+            total += msgs.rotation_angle(prev[:3, :3].T @ cur[:3, :3])
             prev = cur
         return total
 

@@ -922,7 +922,7 @@ class OMPLPipeline:
             reached = solver.forward(q).homogeneous
             err_p = float(np.linalg.norm(reached[:3, 3] - link_target[:3, 3]))
             R = link_target[:3, :3].T @ reached[:3, :3]
-            err_r = float(np.arccos(np.clip((np.trace(R) - 1) / 2, -1.0, 1.0)))
+            err_r = msgs.rotation_angle(R)
             if err_p <= pos_tol + 1e-12 and err_r <= rot_tol + 1e-12:
                 goals.append(q[idx].astype(float))
         if goals:

@@ -8,7 +8,6 @@ reversed, so the new start state lies the given motion *before* the end state.
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
@@ -29,20 +28,6 @@ from mtc.stages._planner_stage import PlannerStage, planner_message
 __all__ = ["MoveRelative"]
 
 _EPS = np.finfo(float).eps
-
-
-def _axis_angle(axis: np.ndarray, angle: float) -> np.ndarray:
-    """3x3 rotation by ``angle`` [rad] about the unit ``axis`` (Rodrigues)."""
-    if angle == 0.0 or not np.any(axis):
-        return np.eye(3)
-    x, y, z = axis
-    K = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    return np.eye(3) + math.sin(angle) * K + (1.0 - math.cos(angle)) * (K @ K)
-
-
-def _rotation_angle(R: np.ndarray) -> float:
-    """Angle [rad] of a rotation matrix (in [0, pi])."""
-    return math.acos(max(-1.0, min(1.0, (float(np.trace(R)) - 1.0) / 2.0)))
 
 
 class MoveRelative(PlannerStage):
@@ -170,7 +155,7 @@ class MoveRelative(PlannerStage):
                 # the twist is given in its header frame: rotate it into the planning frame
                 linear = frame[:3, :3] @ linear
                 angular = frame[:3, :3] @ angular
-                R = _axis_angle(angular, angular_norm)
+                R = msgs.axis_angle_matrix(angular, angular_norm)
                 p = start_pose[:3, 3]
                 # rotate about the ik frame's origin (world axes), then translate
                 target = np.eye(4)
@@ -197,7 +182,7 @@ class MoveRelative(PlannerStage):
             if trajectory is not None and len(trajectory) > 0:
                 reached = trajectory.waypoints[-1].get_global_link_transform(ik.link) @ ik.offset
                 if use_rotation_distance:
-                    distance = _rotation_angle(reached[:3, :3] @ start_pose[:3, :3].T)
+                    distance = msgs.rotation_angle(reached[:3, :3] @ start_pose[:3, :3].T)
                 else:
                     distance = float(np.linalg.norm(reached[:3, 3] - start_pose[:3, 3]))
                 if min_distance > 0.0:
