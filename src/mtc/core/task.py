@@ -310,8 +310,9 @@ class Task(WrapperBase):
                     root._runCompute()
                 except PreemptStageError:
                     pass
-                for cb in list(self._task_cbs):
-                    cb(self)
+                if self._task_cbs:  # copied: a callback may remove itself
+                    for cb in list(self._task_cbs):
+                        cb(self)
             return self._result(MoveItErrorCode.PLANNING_FAILED)
         finally:
             self._preempt_flag.requested = False

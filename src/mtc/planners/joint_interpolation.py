@@ -67,7 +67,9 @@ class JointInterpolationPlanner(PlannerInterface):
         goal = to_scene.current_state
         traj = RobotTrajectory(from_scene.robot_model, jmg.name)
         traj.add_suffix_waypoint(start, 0.0)
-        if from_scene.is_state_colliding(start, jmg.name):
+        # collision checks restricted to the group, as MTC; the checker is set up once per request
+        collision_free = from_scene.state_validity_checker(jmg.name)
+        if not collision_free(start.positions):
             return PlannerResult(False, "Start state is in collision!"), traj
         if not start.satisfies_bounds():
             return PlannerResult(False, "Start state is out of bounds!"), traj
@@ -83,13 +85,13 @@ class JointInterpolationPlanner(PlannerInterface):
             waypoint = start.interpolate(goal, t)
             traj.add_suffix_waypoint(waypoint, t - previous)
             previous = t
-            if from_scene.is_state_colliding(waypoint, jmg.name):
+            if not collision_free(waypoint.positions):
                 return PlannerResult(False, "Waypoint is in collision!"), traj
             if not waypoint.satisfies_bounds():
                 return PlannerResult(False, "Waypoint is out of bounds!"), traj
             k += 1
         traj.add_suffix_waypoint(goal, 1.0 - previous)
-        if from_scene.is_state_colliding(goal, jmg.name):
+        if not collision_free(goal.positions):
             return PlannerResult(False, "Goal state is in collision!"), traj
         if not goal.satisfies_bounds():
             return PlannerResult(False, "Goal state is out of bounds!"), traj
