@@ -1235,6 +1235,47 @@ class _PendingPairs:
         ne = len(ee)
         i0 = pair.vs
         j0 = pair.ve
+        # the common cases first: one side changed, and its newest change moved the key
+        if j0 == ne:
+            if i0 == ns:
+                return False
+            pe = pair.end._priority
+            ed = pe[1]
+            ec = pe[2]
+            ps = pair.start._priority
+            ad = ps[1] + ed
+            ac = ps[2] + ec
+            t, bd, bc, _d, _c = es[ns - 1]
+            bd += ed
+            bc += ec
+            i = ns - 1
+            j = ne
+        elif i0 == ns:
+            ps = pair.start._priority
+            sd = ps[1]
+            sc = ps[2]
+            pe = pair.end._priority
+            ad = sd + pe[1]
+            ac = sc + pe[2]
+            t, bd, bc, _d, _c = ee[ne - 1]
+            bd += sd
+            bc += sc
+            i = ns
+            j = ne - 1
+        else:
+            return self._refreshWalk(pair, es, ee, ns, ne, i0, j0)
+        if bd == ad and bc == ac:
+            return self._refreshWalk(pair, es, ee, ns, ne, i0, j0)  # (rounding: a longer walk)
+        # event t changed the key from (bd, bc): see _refreshWalk
+        pair.entry = (ad, ac, -t if bd < ad or (bd == ad and bc < ac) else t, bd, bc,
+                      _new_tuple(_Before, (pair.entry,)) if i == i0 and j == j0 else
+                      _new_tuple(_Before, (es, ee, pair.start, pair.end, pair.entry, i0, j0, i, j)), pair)
+        pair.vs = ns
+        pair.ve = ne
+        return True
+
+    def _refreshWalk(self, pair: _Pair, es: list, ee: list, ns: int, ne: int, i0: int, j0: int) -> bool:
+        """:meth:`_refresh` in general: both sides changed, or the newest change kept the key."""
         if i0 == ns and j0 == ne:
             return False
         # walk back from the current priorities to the last event that changed the key
