@@ -24,7 +24,7 @@ from mtc.scene.robot_state import RobotState
 
 log = logging.getLogger(__name__)
 
-__all__ = ["PlanningScene", "WorldObject", "AttachedObject", "MeshFile"]
+__all__ = ["PlanningScene", "WorldObject", "AttachedObject", "MeshFile", "MotionChecker"]
 
 _PRIMITIVE_DIMS = {
     msgs.SolidPrimitive.BOX: ("box", 3),
@@ -146,6 +146,97 @@ def mesh_file_to_msg(filename: str, scale=(1.0, 1.0, 1.0)) -> msgs.Mesh:
     )
 
 
+_REVOLUTE = ("JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned",
+             "JointModelRUBX", "JointModelRUBY", "JointModelRUBZ", "JointModelRevoluteUnboundedUnaligned")
+_PRISMATIC = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
+_AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
+
+
+def _joint_axis(joint) -> np.ndarray | None:
+    """Unit axis of a revolute joint in its own frame (None: unknown)."""
+    name = joint.shortname()
+    for suffix, a in _AXES.items():
+        if name in (f"JointModelR{suffix}", f"JointModelRUB{suffix}"):
+            return np.array(a)
+    try:
+        a = np.asarray(joint.extract().axis, dtype=float)
+        return a / np.linalg.norm(a)
+    except (AttributeError, TypeError, ValueError, ZeroDivisionError):
+        return None
+
+
+def _geometry_motion_row(model: RobotModel, go) -> tuple[np.ndarray, np.ndarray]:
+    """(bound per variable on how far any point of the geometry object moves per unit change
+    of the variable, whether the variable's joint is above it) for one geometry object.
+
+    A revolute joint moves a point by at most its distance from the joint's axis, bounded by
+    the triangle inequality along the chain: the first offset without its component along
+    the axis, the further joint offsets (prismatic joints: plus their largest travel), the
+    geometry's offset and its radius about its own frame. A prismatic joint moves it by its
+    own change. Other joint types: inf.
+    """
+    pm = model.pinocchio_model
+    joints = pm.joints
+    row = np.zeros(pm.nq)
+    anc = np.zeros(pm.nq, dtype=bool)
+    jg = int(go.parentJoint)
+    if jg == 0:
+        return row, anc
+    geom = go.geometry
+    geom.computeLocalAABB()
+    lo, hi = np.asarray(geom.aabb_local.min_), np.asarray(geom.aabb_local.max_)
+    radius = float(np.linalg.norm(np.maximum(np.abs(lo), np.abs(hi))))
+    offset = np.asarray(go.placement.translation, dtype=float)
+
+    def travel(j: int) -> float:
+        if joints[j].shortname() not in _PRISMATIC:
+            return 0.0
+        i = joints[j].idx_q
+        return float(max(abs(model.lower_bounds[i]), abs(model.upper_bounds[i])))
+
+    chain = [int(j) for j in pm.supports[jg]][1:]  # joints from the root down to jg
+    # reach[n]: bound on the distance from joint chain[n]'s origin to the geometry, without
+    # the first offset (kept apart to drop its component along the axis)
+    tail = float(np.linalg.norm(offset)) + radius
+    for n, j in enumerate(chain):
+        v = joints[j].idx_q
+        anc[v] = True
+        kind = joints[j].shortname()
+        if kind in _PRISMATIC:
+            row[v] = 1.0
+            continue
+        if kind not in _REVOLUTE:
+            row[v] = np.inf
+            continue
+        rest = chain[n + 1:]
+        if rest:
+            first = np.asarray(pm.jointPlacements[rest[0]].translation, dtype=float)
+            reach = travel(rest[0]) + tail
+            reach += sum(float(np.linalg.norm(pm.jointPlacements[k].translation)) + travel(k) for k in rest[1:])
+        else:
+            first, reach = offset, radius
+        axis = _joint_axis(joints[j])
+        if axis is not None:
+            first = first - first.dot(axis) * axis
+        row[v] = reach + float(np.linalg.norm(first))
+    return row, anc
+
+
+_ROBOT_MOTION_ROWS: dict[int, tuple] = {}
+
+
+def _robot_motion_rows(model: RobotModel) -> tuple[list, list]:
+    """:func:`_geometry_motion_row` of every robot collision geometry (cached per model)."""
+    entry = _ROBOT_MOTION_ROWS.get(id(model))
+    if entry is None or entry[0] is not model:
+        rows = [_geometry_motion_row(model, go) for go in model.collision_model.geometryObjects]
+        entry = (model, [r for r, _ in rows], [a for _, a in rows])
+        if len(_ROBOT_MOTION_ROWS) > 32:
+            _ROBOT_MOTION_ROWS.clear()
+        _ROBOT_MOTION_ROWS[id(model)] = entry
+    return entry[1], entry[2]
+
+
 class _CollisionEnv:
     """Robot links + world objects + attached objects in one Pinocchio GeometryModel, with the
     collision pairs the ACM does not allow. Built per (world, attached, ACM) version."""
@@ -218,16 +309,31 @@ class _CollisionEnv:
 
     def pair_mask(self, group: str | None, world: bool = True, self_collision: bool = True) -> np.ndarray:
         """Which collision pairs a query considers."""
+        pairs = self._pair_array()
+        if not len(pairs):
+            return np.zeros(0, dtype=bool)
+        is_world = self._kind_array() == "world"
+        pair_world = is_world[pairs[:, 0]] | is_world[pairs[:, 1]]
+        mask = np.where(pair_world, world, self_collision)
         moving = self._moving_bodies(group)
-        mask = np.zeros(len(self.pairs), dtype=bool)
-        for k, (i, j) in enumerate(self.pairs):
-            is_world = self.kinds[i] == "world" or self.kinds[j] == "world"
-            if (is_world and not world) or (not is_world and not self_collision):
-                continue
-            if moving is not None and self.bodies[i] not in moving and self.bodies[j] not in moving:
-                continue
-            mask[k] = True
+        if moving is not None:
+            bodies = np.array([b in moving for b in self.bodies], dtype=bool)
+            mask &= bodies[pairs[:, 0]] | bodies[pairs[:, 1]]
         return mask
+
+    def _pair_array(self) -> np.ndarray:
+        cached = getattr(self, "_pairs_np", None)
+        if cached is None:
+            cached = np.asarray(self.pairs, dtype=int).reshape(-1, 2)
+            self._pairs_np = cached
+        return cached
+
+    def _kind_array(self) -> np.ndarray:
+        cached = getattr(self, "_kinds_np", None)
+        if cached is None:
+            cached = np.asarray(self.kinds)
+            self._kinds_np = cached
+        return cached
 
     def checker(self, group: str | None):
         """(geometry data with the group's pairs active, broad-phase manager) for fast checks."""
@@ -252,15 +358,174 @@ class _CollisionEnv:
 
     def _geometry_data(self, mask: np.ndarray) -> pin.GeometryData:
         gd = self.geom_model.createData()
-        for k, active in enumerate(mask):
-            if not active:
-                gd.deactivateCollisionPair(k)
+        if not mask.all():
+            # one call with the activation matrix instead of a Python loop over the pairs
+            n = self.geom_model.ngeoms
+            active = np.zeros((n, n), dtype=bool)
+            pairs = self._pair_array()[mask]
+            active[pairs[:, 0], pairs[:, 1]] = True
+            gd.setActiveCollisionPairs(self.geom_model, active, True)
         return gd
+
+    def motion_model(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """How far the bodies can move, for continuous collision checks of motions.
+
+        Returns:
+            ``(B, movable, T)``: ``B`` (geometries x variables) such that a change ``dq`` of
+            the variables moves no point of geometry ``g`` farther than ``B[g] @ |dq|``, from
+            any configuration (zero rows for world objects); ``movable``, the indices of the
+            geometries with a joint above them; ``T`` (movable x movable x variables), the same
+            bound for the change of distance between two movable geometries: joints above
+            both move them together and do not count. Inf entries where a joint type has no
+            bound here.
+        """
+        cached = getattr(self, "_motion_model", None)
+        if cached is not None:
+            return cached
+        model = self.model
+        robot = _robot_motion_rows(model)
+        rows, ancestors = [], []
+        n_robot = len(model.collision_model.geometryObjects)
+        for g, go in enumerate(self.geom_model.geometryObjects):
+            if g < n_robot:
+                rows.append(robot[0][g])
+                ancestors.append(robot[1][g])
+            else:  # world objects (parent joint 0: zero row) and attached objects
+                b, anc = _geometry_motion_row(model, go)
+                rows.append(b)
+                ancestors.append(anc)
+        B_own = np.array(rows).reshape(len(rows), model.pinocchio_model.nq)
+        anc = np.array(ancestors, dtype=bool).reshape(B_own.shape)
+        movable = np.nonzero(anc.any(axis=1))[0]
+        Bm, am = B_own[movable], anc[movable]
+        with np.errstate(invalid="ignore"):  # inf * 0: a joint above both moves neither apart
+            T = np.nan_to_num(Bm[:, None, :] * ~am[None, :, :], nan=0.0, posinf=np.inf)
+            T = T + np.swapaxes(T, 0, 1)
+        B = B_own.copy()
+        # a mimic master moves its followers too (never a joint "above both": the follower
+        # may move one body against the other)
+        for follower, master, multiplier, _ in model.mimic_followers:
+            B[:, master] += abs(multiplier) * B[:, follower]
+            T[:, :, master] += abs(multiplier) * T[:, :, follower]
+        for a in (B, movable, T):
+            a.flags.writeable = False
+        self._motion_model = (B, movable, T)
+        return self._motion_model
 
     def query_data(self, q: np.ndarray, mask: np.ndarray) -> pin.GeometryData:
         gd = self._geometry_data(mask)
         pin.updateGeometryPlacements(self.model.pinocchio_model, self.data, self.geom_model, gd, q)
         return gd
+
+
+class MotionChecker:
+    """Collision checks of one group's states, and of states with a clearance: the basis of
+    continuous (not only sampled) collision checking of straight joint-space motions.
+
+    :meth:`clear` asks whether every pair of bodies is farther apart than the sum of how far
+    each of the two may move (coal's security margin, one C++ call through the broad phase).
+    With :meth:`rates` (how far each body moves at most per unit of a motion, from
+    :meth:`_CollisionEnv.motion_bounds`), a state ``q(t)`` on the motion ``q(s) = a + s d``
+    that is clear with ``reach = r * rates(d)`` proves every state with ``|s - t| <= r``
+    collision-free: no point moves farther than that, so no pair can close its gap.
+
+    Bound to the scene's collision set-up as it is when made (as
+    :meth:`PlanningScene.state_validity_checker`).
+    """
+
+    def __init__(self, env: _CollisionEnv, group: str | None):
+        pm = env.model.pinocchio_model
+        self._env = env  # the managers point into its geometry model
+        self._pm = pm
+        self._gm = env.geom_model
+        self._data = pm.createData()
+        _, self._manager = env.checker(group)
+        self._gd = env._geometry_data(env.pair_mask(group))
+        self._margin_manager = type(self._manager)(pm, self._gm, self._gd)
+        self._bounds, self._movable, self._pair_bounds = env.motion_model()
+        self._block = np.ix_(self._movable, self._movable)
+        self.certifiable = bool(np.all(np.isfinite(self._bounds)))
+        self._compute = pin.computeCollisions
+
+    def free(self, q: np.ndarray) -> bool:
+        """Whether the full variable vector ``q`` is collision-free."""
+        return not self._compute(self._pm, self._data, self._manager, q, True)
+
+    def rates(self, dq: np.ndarray, columns=None) -> np.ndarray:
+        """Per geometry, a bound on how far any of its points moves along the motion ``dq``
+        [m]: a full variable vector of changes, or the changes of the variables ``columns``
+        (the others stay fixed)."""
+        bounds = self._bounds if columns is None else self._bounds[:, columns]
+        return bounds @ np.abs(dq)
+
+    def margins(self, dq: np.ndarray, columns=None) -> np.ndarray:
+        """Per pair of geometries (a geometries x geometries matrix), a bound on how much
+        closer the two can get along the motion ``dq`` (as in :meth:`rates`) [m]."""
+        dq = np.abs(dq)
+        rates = self.rates(dq, columns)
+        out = rates[:, None] + rates[None, :]
+        pair = self._pair_bounds if columns is None else self._pair_bounds[:, :, columns]
+        out[self._block] = pair @ dq
+        return out
+
+    def clear_all(self, Q: np.ndarray, margins: np.ndarray) -> list[int]:
+        """Indices of the rows of ``Q`` (full variable vectors) that are not clear by
+        ``margins`` (as :meth:`clear`, with one set of margins)."""
+        self._gd.setSecurityMargins(self._gm, margins, True, True)
+        compute, pm, data, manager = self._compute, self._pm, self._data, self._margin_manager
+        return [i for i, q in enumerate(Q) if compute(pm, data, manager, q, True)]
+
+    def motion_free(self, qa: np.ndarray, qb: np.ndarray, n: int = 1, min_margin: float = 1e-6,
+                    free_check: float = 1e-2) -> tuple[bool, int]:
+        """Whether every state of the straight motion from ``qa`` to ``qb`` (full variable
+        vectors) is collision-free, given that the states ``qa + j/n (qb - qa)``, j = 0..n,
+        are (they are not checked again). Continuous, not sampled: holds at any resolution.
+
+        Every interval between those states is covered by a ball around its middle state:
+        if that state is clear of every pair by more than the two can close in within half
+        the interval, no state of the interval collides. Uncovered intervals are halved, level
+        by level (one set of margins per level); once their bodies move less than
+        ``free_check`` [m] within them, the middle states are also checked for a collision
+        (the motion fails), and below ``min_margin`` [m] the motion counts as colliding (it
+        grazes an obstacle).
+
+        Returns:
+            ``(free, states checked)``.
+
+        Raises:
+            ValueError: the robot has joints without a motion bound (see :attr:`certifiable`).
+        """
+        if not self.certifiable:
+            raise ValueError("motion_free needs revolute or prismatic joints (see MotionChecker.certifiable)")
+        qa = np.asarray(qa, dtype=float)
+        d = np.asarray(qb, dtype=float) - qa
+        margins = self.margins(d)  # how much closer each pair can get per unit of the motion
+        largest = float(margins.max()) if margins.size else 0.0
+        checks = 0
+        if largest <= 0.0:
+            return True, 0  # nothing that can collide moves
+        mids = (np.arange(n) + 0.5) / n
+        half = 0.5 / n
+        while len(mids):
+            Q = qa + mids[:, None] * d
+            blocked = self.clear_all(Q, margins * half)
+            checks += len(mids)
+            if not blocked:
+                return True, checks
+            if half * largest < free_check:
+                checks += len(blocked)
+                if half * largest < min_margin or not all(self.free(Q[i]) for i in blocked):
+                    return False, checks
+            m = mids[blocked]
+            half *= 0.5
+            mids = np.concatenate([m - half, m + half])
+        return True, checks
+
+    def clear(self, q: np.ndarray, margins: np.ndarray) -> bool:
+        """Whether every considered pair is farther apart at ``q`` than its entry of
+        ``margins`` (from :meth:`margins`)."""
+        self._gd.setSecurityMargins(self._gm, margins, True, True)
+        return not self._compute(self._pm, self._data, self._margin_manager, q, True)
 
 
 class PlanningScene:
@@ -671,6 +936,12 @@ class PlanningScene:
         # the manager points into the env's geometry model and data: keep them alive with it
         is_valid.collision_env = env
         return is_valid
+
+    def motion_checker(self, group: str | None = None) -> MotionChecker:
+        """A :class:`MotionChecker` for ``group`` (continuous checks of straight motions), bound
+        to the scene as it is now."""
+        self._check_group(group)
+        return MotionChecker(self._collision_env(), group)
 
     def check_states(self, Q: np.ndarray, group: str | None = None) -> np.ndarray:
         """Validity (collision-free) of each row of ``Q`` (n x variable_count)."""

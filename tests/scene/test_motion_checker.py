@@ -1,0 +1,167 @@
+"""Tests of MotionChecker: motion bounds and continuous collision checks of straight motions."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from mtc import msgs
+from mtc.scene.planning_scene import MotionChecker, PlanningScene
+
+ARM = "panda_arm"
+
+
+def _box(scene: PlanningScene, name: str, center, size) -> None:
+    pose = np.eye(4)
+    pose[:3, 3] = center
+    scene.apply_collision_object(
+        msgs.CollisionObject(
+            id=name,
+            header=msgs.Header(frame_id="world"),
+            primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=list(size))],
+            primitive_poses=[msgs.matrix_to_pose(np.eye(4))],
+            pose=msgs.matrix_to_pose(pose),
+            operation=msgs.CollisionObject.ADD,
+        )
+    )
+
+
+def _cluttered(scene: PlanningScene) -> PlanningScene:
+    """Boxes around the Panda at ``ready``, close enough that random motions hit them."""
+    _box(scene, "front", (0.55, 0.0, 0.35), (0.1, 0.6, 0.02))
+    _box(scene, "left", (0.3, 0.35, 0.5), (0.4, 0.02, 0.4))
+    _box(scene, "post", (0.0, -0.45, 0.4), (0.05, 0.05, 0.8))
+    _box(scene, "top", (0.3, 0.0, 1.05), (0.3, 0.3, 0.02))
+    return scene
+
+
+def _geometry_points(geometry) -> np.ndarray:
+    """Vertices of a convex mesh, or the corners of another shape's bounding box."""
+    if hasattr(geometry, "points"):
+        return np.asarray(geometry.points())
+    geometry.computeLocalAABB()
+    lo, hi = np.asarray(geometry.aabb_local.min_), np.asarray(geometry.aabb_local.max_)
+    return np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])])
+
+
+def test_motion_bounds_hold_for_random_motions(scene):
+    """No point of any robot geometry moves farther than ``rates(dq)`` says (every variable,
+    the fingers' mimic included), and pairs never close in faster than ``margins``."""
+    checker = scene.motion_checker()
+    env = scene._collision_env()
+    model = scene.robot_model
+    pm, gm = model.pinocchio_model, env.geom_model
+    data, gd = pm.createData(), gm.createData()
+    points = [_geometry_points(go.geometry) for go in gm.geometryObjects]
+    rng = np.random.default_rng(4)
+    lo = np.where(np.isfinite(model.lower_bounds), model.lower_bounds, -math.pi)
+    hi = np.where(np.isfinite(model.upper_bounds), model.upper_bounds, math.pi)
+    worst = 0.0
+    for _ in range(200):
+        q = rng.uniform(lo, hi)
+        model.enforce_mimic(q)
+        q2 = q + rng.normal(size=len(q)) * 0.2
+        model.enforce_mimic(q2)
+        placed = []
+        for qq in (q, q2):
+            pin.updateGeometryPlacements(pm, data, gm, gd, qq)
+            placed.append([(gd.oMg[g].rotation @ V.T).T + gd.oMg[g].translation for g, V in enumerate(points)])
+        rates = checker.rates(q2 - q)
+        margins = checker.margins(q2 - q)
+        for g in range(len(points)):
+            moved = float(np.linalg.norm(placed[1][g] - placed[0][g], axis=1).max())
+            assert moved <= rates[g] + 1e-9, gm.geometryObjects[g].name
+            if rates[g] > 0:
+                worst = max(worst, moved / rates[g])
+        # two bodies moved by the same joints only (the fingers with the hand) keep their distance
+        hand = [g for g, go in enumerate(gm.geometryObjects) if go.name.startswith("panda_hand")][0]
+        finger = [g for g, go in enumerate(gm.geometryObjects) if go.name.startswith("panda_leftfinger")][0]
+        dq = np.zeros_like(q)
+        dq[:7] = q2[:7] - q[:7]
+        assert checker.margins(dq)[hand, finger] == 0.0
+        assert margins[hand, finger] > 0.0  # the finger joint moves the finger against the hand
+    assert worst > 0.3  # the bounds are not absurdly loose
+
+
+def test_clear_is_a_distance_test(scene):
+    """``clear(q, margins)`` is False exactly when some pair is closer than its margin."""
+    _cluttered(scene)
+    checker = scene.motion_checker(ARM)
+    q = scene.current_state.positions.copy()
+    distance = scene.distance_to_collision(scene.current_state, ARM)
+    assert 0.0 < distance < 0.5
+    world = np.array([kind == "world" for kind in scene._collision_env().kinds])
+    robot_world = world[:, None] ^ world[None, :]  # margins on robot - world pairs only
+    assert checker.clear(q, np.where(robot_world, 0.9 * distance, 0.0))
+    assert not checker.clear(q, np.where(robot_world, 1.1 * distance, 0.0))
+    assert checker.free(q)
+
+
+def _dense_free(checker: MotionChecker, qa, qb, step: float) -> bool:
+    n = max(1, math.ceil(float(np.abs(qb - qa).max()) / step))
+    return all(checker.free(qa + (k / n) * (qb - qa)) for k in range(n + 1))
+
+
+def test_motion_free_agrees_with_dense_checks(scene):
+    """Random short motions among boxes: a motion found free is free at 0.5 mrad steps, and
+    every motion with a collision there is found colliding."""
+    _cluttered(scene)
+    checker = scene.motion_checker(ARM)
+    assert checker.certifiable
+    model = scene.robot_model
+    base = scene.current_state.positions.copy()
+    rng = np.random.default_rng(11)
+    lo, hi = model.lower_bounds[:7], model.upper_bounds[:7]
+    outcomes = {True: 0, False: 0}
+    tried = 0
+    while min(outcomes.values()) < 6 and tried < 3000:
+        tried += 1
+        qa = base.copy()
+        qa[:7] = np.clip(base[:7] + rng.normal(size=7) * 0.6, lo, hi)
+        qb = qa.copy()
+        qb[:7] = np.clip(qa[:7] + rng.normal(size=7) * 0.25, lo, hi)
+        if not (checker.free(qa) and checker.free(qb)):
+            continue
+        free, checks = checker.motion_free(qa, qb)
+        assert checks >= 1
+        if outcomes[free] >= 6:
+            continue  # enough of these
+        dense = _dense_free(checker, qa, qb, 0.0005)
+        assert free == dense, (qa, qb)
+        outcomes[free] += 1
+    assert min(outcomes.values()) >= 6, outcomes
+
+
+def test_motion_free_catches_a_small_obstacle_between_far_samples(scene):
+    """The hand swings past a 1 cm cube that both end states miss by far: sampled checks at
+    the ends see nothing, the motion is found colliding; without the cube it is free."""
+    model = scene.robot_model
+    qa = scene.current_state.positions.copy()
+    qb = qa.copy()
+    qa[0], qb[0] = -0.8, 0.8
+    mid = qa.copy()
+    mid[0] = 0.0
+    state = scene.current_state.copy()
+    state.positions = mid
+    hand = state.get_global_link_transform("panda_hand")[:3, 3]
+    checker = scene.motion_checker(ARM)
+    assert checker.motion_free(qa, qb)[0]
+    _box(scene, "cube", hand, (0.01, 0.01, 0.01))
+    checker = scene.motion_checker(ARM)
+    assert checker.free(qa) and checker.free(qb) and not checker.free(mid)
+    free, _ = checker.motion_free(qa, qb)
+    assert not free
+    assert model.variable_count == len(qa)
+
+
+def test_unbounded_joint_types_are_not_certifiable(scene):
+    """A robot whose joints all have bounds is certifiable; ``motion_free`` refuses otherwise."""
+    checker = scene.motion_checker(ARM)
+    assert checker.certifiable
+    checker.certifiable = False
+    q = scene.current_state.positions
+    with pytest.raises(ValueError, match="revolute or prismatic"):
+        checker.motion_free(q, q)
