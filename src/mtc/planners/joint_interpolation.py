@@ -1,7 +1,8 @@
 """Straight-line motion in joint space (MTC's ``solvers/joint_interpolation.h``).
 
-No obstacle avoidance: the line is sampled and every sample is checked; the first invalid one
-ends planning with the partial trajectory and MTC's failure message.
+No obstacle avoidance: the line is sampled and every sample is checked, and so is the motion
+between consecutive samples (at every state, see :meth:`PathValidity.motion_free`); the first
+invalid one ends planning with the partial trajectory and MTC's failure message.
 """
 
 from __future__ import annotations
@@ -68,7 +69,8 @@ class JointInterpolationPlanner(PlannerInterface):
         traj = RobotTrajectory(from_scene.robot_model, jmg.name)
         traj.add_suffix_waypoint(start, 0.0)
         # collision checks restricted to the group, as MTC; the checker is set up once per request
-        collision_free = from_scene.state_validity_checker(jmg.name)
+        validity = PathValidity(from_scene, jmg.name)
+        collision_free = validity.collision_free
         if not collision_free(start.positions):
             return PlannerResult(False, "Start state is in collision!"), traj
         if not start.satisfies_bounds():
@@ -89,12 +91,17 @@ class JointInterpolationPlanner(PlannerInterface):
                 return PlannerResult(False, "Waypoint is in collision!"), traj
             if not waypoint.satisfies_bounds():
                 return PlannerResult(False, "Waypoint is out of bounds!"), traj
+            # and the motion to it, at every state (not only the waypoints: as the OMPL pipeline)
+            if not validity.motion_free(traj[-2].positions, waypoint.positions):
+                return PlannerResult(False, "Waypoint is in collision!"), traj
             k += 1
         traj.add_suffix_waypoint(goal, 1.0 - previous)
         if not collision_free(goal.positions):
             return PlannerResult(False, "Goal state is in collision!"), traj
         if not goal.satisfies_bounds():
             return PlannerResult(False, "Goal state is out of bounds!"), traj
+        if not validity.motion_free(traj[-2].positions, goal.positions):
+            return PlannerResult(False, "Waypoint is in collision!"), traj
         self._apply_timing(traj)
         return PlannerResult(True, ""), traj
 

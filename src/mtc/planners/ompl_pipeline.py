@@ -88,12 +88,23 @@ __all__ = [
 #: still caught. MoveIt's default (``longest_valid_segment_fraction`` 0.005 of the maximum
 #: extent) is about 0.065 rad in the Euclidean norm for the Panda.
 DEFAULT_RESOLUTION = 0.015
+#: A motion whose bodies cannot be proven apart by checks of states at most this far from
+#: every state of an interval [m] (twice the distance each body moves within it) counts as
+#: colliding (see :meth:`_EdgeChecker._certify`): it grazes an obstacle.
+CERTIFY_MIN_MARGIN = 1e-6
+#: Intervals whose bodies can close in by less than this [m] without being covered have their
+#: middle states checked for collisions (before, a failed cover is just halved: a collision
+#: between the checked states of a path is rare).
+CERTIFY_FREE_CHECK = 1e-2
 #: Start states outside the bounds by at most this much are moved onto them [rad or m]
 #: (MoveIt's ``start_state_max_bounds_error``).
 START_STATE_MAX_BOUNDS_ERROR = 0.05
 #: Random shortcuts stop after this many tries in a row without a gain (at least one per
 #: path vertex); the greedy pass before them tries every vertex once.
 SHORTCUT_FAILURES = 5
+#: Sub-searches with the search's own (sampled) checks that replace an edge failing the full
+#: check, before one with full checks of every edge it tries.
+REPAIR_TRIES = 2
 #: Fewest waypoints of a returned path (MoveIt's ``minimum_waypoint_count``).
 MIN_WAYPOINT_COUNT = 10
 #: IK solutions sampled as goal states of a pose goal.
@@ -246,6 +257,8 @@ class PlanStats:
             full-resolution check of the result).
         fine_retries: edges of a search's path that failed the full-resolution check and were
             replanned with full checks.
+        certify_checks: state checks spent proving edges collision-free between their
+            sampled states (part of ``states_checked``).
     """
 
     planner: str = ""
@@ -259,6 +272,7 @@ class PlanStats:
     attempts: int = 0
     search_checks: int = 0
     fine_retries: int = 0
+    certify_checks: int = 0
 
 
 # ---------------------------------------------------------------------------------------------
@@ -318,7 +332,8 @@ class _EdgeChecker:
         ratio: int = 1,
     ):
         model = scene.robot_model
-        self._collision_free = scene.state_validity_checker(group.name)
+        self._motion = scene.motion_checker(group.name)
+        self._collision_free = self._motion.free
         self._constraints = None if constraints is None or constraints.empty else constraints
         self._idx = group.variable_indices
         idx = self._idx
@@ -335,6 +350,7 @@ class _EdgeChecker:
         self.coarse = self.resolution * self.ratio
         self.search_fine = self.ratio == 1  # True: the search checks edges fully
         self.states_checked = 0
+        self.certify_checks = 0
         self.check_time = 0.0
         self._valid_states: set[bytes] = set()  # states known valid (tree vertices, ends)
         self._coarse_edges: set[bytes] = set()  # edges valid at the search resolution
@@ -343,6 +359,9 @@ class _EdgeChecker:
         self._buf = np.repeat(self._base[None, :], 64, axis=0)  # states of one edge
         self._coarse_t: dict[int, np.ndarray] = {}
         self._fine_t: dict[int, np.ndarray] = {}
+        # collisions between the sampled states are ruled out by motion bounds where the
+        # robot's joints have them (revolute, prismatic), else edges are sampled finely
+        self.certified = self._motion.certifiable
 
     def full(self, x: np.ndarray) -> np.ndarray:
         q = self._base.copy()
@@ -402,6 +421,14 @@ class _EdgeChecker:
                 self._fine_t[n] = t
         return t
 
+    def _states(self, a: np.ndarray, d: np.ndarray, t: np.ndarray) -> np.ndarray:
+        """Full variable vectors of the states ``a + t_i d`` (a new array)."""
+        Q = np.repeat(self._base[None, :], len(t), axis=0)
+        Q[:, self._cols] = a + t[:, None] * d
+        if self._mimic:
+            self._model.enforce_mimic(Q)
+        return Q
+
     def _check_params(self, a: np.ndarray, d: np.ndarray, t: np.ndarray) -> bool:
         """Whether the states ``a + t_i d`` are valid, checked in the order of ``t``."""
         t0 = time.perf_counter()
@@ -456,20 +483,46 @@ class _EdgeChecker:
         return ok
 
     def edge_ok_fine(self, a: np.ndarray, b: np.ndarray) -> bool:
-        """Whether the edge is valid at every one of its :meth:`segments` states."""
+        """Whether the edge is valid: collision-free at every state on it (certified, see
+        :meth:`_certify`; where the robot's joints allow no such bound, at every one of its
+        :meth:`segments` states), path constraints satisfied at the :meth:`segments` states."""
         key = a.tobytes() + b.tobytes()
         if key in self._fine_edges:
             return True
         if not self._edge_ok_coarse(a, b, key):
             return False
-        if self.ratio > 1:
-            d = b - a
-            rest = self._fine_params(self._coarse_segments(d))  # the others were checked by edge_ok
+        d = b - a
+        n = self._coarse_segments(d)
+        if self.ratio > 1 and (self._constraints is not None or not self.certified):
+            rest = self._fine_params(n)  # the others were checked by edge_ok
             if rest.size and not self._check_params(a, d, rest):
                 return False
+        if self.certified and not self._certify(a, d, n):
+            return False
         self._fine_edges.add(key)
         self._fine_edges.add(b.tobytes() + a.tobytes())
         return True
+
+    def _certify(self, a: np.ndarray, d: np.ndarray, n: int) -> bool:
+        """Whether the motion ``a + t d``, t in [0, 1], is collision-free at every t, given
+        that the states at t = j / n are.
+
+        An interval of the motion is covered by a ball around its middle state: if that
+        state is clear of every pair of bodies by more than the two can close in within half
+        the interval (:meth:`~mtc.scene.planning_scene.MotionChecker.motion_free`), no state
+        of the interval collides. Otherwise both halves are covered in turn; once the bodies
+        move less than :data:`CERTIFY_FREE_CHECK` within an interval its middle state is
+        checked for a collision (the motion fails), and an interval whose bodies move less
+        than :data:`CERTIFY_MIN_MARGIN` without being covered fails: the motion grazes an
+        obstacle closer than any sampled check could tell."""
+        t0 = time.perf_counter()
+        ok, checks = self._motion.motion_free(
+            self.full(a), self.full(a + d), n, CERTIFY_MIN_MARGIN, CERTIFY_FREE_CHECK
+        )
+        self.states_checked += checks
+        self.certify_checks += checks
+        self.check_time += time.perf_counter() - t0
+        return ok
 
     def path_ok(self, path: np.ndarray, fine: bool = False) -> bool:
         check = self.edge_ok_fine if fine else self.edge_ok
@@ -945,6 +998,7 @@ class OMPLPipeline:
     def _finish_stats(self, req: _Request) -> None:
         st = self.last_stats
         st.states_checked = req.checker.states_checked
+        st.certify_checks = req.checker.certify_checks
         st.check_time = req.checker.check_time
         st.total_time = time.perf_counter() - req.t0
 
@@ -1049,9 +1103,17 @@ class OMPLPipeline:
                     out.append(b)
                     continue
                 self.last_stats.fine_retries += 1
-                checker.search_fine = True
-                sub, _ = runner(req, a, [b], cls_name, seed + 7919 * (i + 1), None)
-                if sub is None or not checker.path_ok(sub, fine=True):
+                sub = None
+                # sub-searches with the search's checks, their paths then proven in full (proving
+                # every edge a sub-search tries would cost far more); the last with full checks
+                for k in range(REPAIR_TRIES + 1):
+                    checker.search_fine = k == REPAIR_TRIES
+                    sub, _ = runner(req, a, [b], cls_name, seed + 7919 * (i + 1) + 104729 * k, None)
+                    if sub is None or checker.path_ok(sub, fine=True):
+                        break
+                    sub = None
+                checker.search_fine = fine_before
+                if sub is None:
                     return None
                 out.extend(sub[1:])
         finally:

@@ -99,6 +99,11 @@ def to_pose_stamped(pose, link: str | None = None) -> msgs.PoseStamped:
     )
 
 
+#: Sampling step [rad or m] of :meth:`PathValidity.motion_free` for robots whose joints have no
+#: motion bound (the OMPL pipeline's full checking resolution).
+MOTION_FALLBACK_STEP = 0.015
+
+
 class PathValidity:
     """Whether states are collision-free (for a group) and satisfy path constraints.
 
@@ -114,6 +119,7 @@ class PathValidity:
         self.scene = scene
         self.group = group
         self._collision_free = scene.state_validity_checker(group)
+        self._motion = None  # the motion checker, made on first use
         self._constraints = None
         if path_constraints is not None and (
             path_constraints.joint_constraints
@@ -135,6 +141,26 @@ class PathValidity:
 
     def collision_free(self, q: np.ndarray) -> bool:
         return bool(self._collision_free(q))
+
+    def motion_free(self, qa: np.ndarray, qb: np.ndarray) -> bool:
+        """Whether the straight joint-space motion between two collision-free states (full
+        variable vectors) is collision-free at every state on it, not only at samples
+        (:meth:`~mtc.scene.planning_scene.MotionChecker.motion_free`; the OMPL pipeline
+        proves its paths the same way). Continuous joints move the short way round. Robots
+        with joints that have no motion bound are checked every
+        :data:`MOTION_FALLBACK_STEP` instead."""
+        if self._motion is None:
+            self._motion = self.scene.motion_checker(self.group)
+        model = self.scene.robot_model
+        qa = np.asarray(qa, dtype=float)
+        delta = np.asarray(qb, dtype=float) - qa
+        cont = model.continuous_mask
+        if cont.any():
+            delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
+        if self._motion.certifiable:
+            return self._motion.motion_free(qa, qa + delta)[0]
+        n = max(1, math.ceil(float(np.abs(delta).max(initial=0.0)) / MOTION_FALLBACK_STEP))
+        return all(self._motion.free(qa + (k / n) * delta) for k in range(1, n))
 
     def constraints_satisfied(self, q: np.ndarray) -> bool:
         if self._constraints is None:
