@@ -222,7 +222,43 @@ def _geometry_motion_row(model: RobotModel, go) -> tuple[np.ndarray, np.ndarray]
     return row, anc
 
 
+def _motion_model(model: RobotModel, B_own: np.ndarray, anc: np.ndarray):
+    """(B, movable, T) of :meth:`_CollisionEnv.motion_model` from the rows of
+    :func:`_geometry_motion_row`."""
+    movable = np.nonzero(anc.any(axis=1))[0]
+    Bm, am = B_own[movable], anc[movable]
+    with np.errstate(invalid="ignore"):  # inf * 0: a joint above both moves neither apart
+        T = np.nan_to_num(Bm[:, None, :] * ~am[None, :, :], nan=0.0, posinf=np.inf)
+        T = T + np.swapaxes(T, 0, 1)
+    B = B_own.copy()
+    # a mimic master moves its followers too (never a joint "above both": the follower may
+    # move one body against the other)
+    for follower, master, multiplier, _ in model.mimic_followers:
+        B[:, master] += abs(multiplier) * B[:, follower]
+        T[:, :, master] += abs(multiplier) * T[:, :, follower]
+    return B, movable, T
+
+
 _ROBOT_MOTION_ROWS: dict[int, tuple] = {}
+_ROBOT_MOTION_MODELS: dict[int, tuple] = {}
+
+
+def _robot_motion_model(model: RobotModel):
+    """:func:`_motion_model` of the robot's own collision geometries (cached per model)."""
+    entry = _ROBOT_MOTION_MODELS.get(id(model))
+    if entry is None or entry[0] is not model:
+        rows, ancestors = _robot_motion_rows(model)
+        nq = model.pinocchio_model.nq
+        parts = _motion_model(
+            model, np.array(rows).reshape(len(rows), nq), np.array(ancestors, dtype=bool).reshape(len(rows), nq)
+        )
+        for a in parts:
+            a.flags.writeable = False
+        entry = (model, parts)
+        if len(_ROBOT_MOTION_MODELS) > 32:
+            _ROBOT_MOTION_MODELS.clear()
+        _ROBOT_MOTION_MODELS[id(model)] = entry
+    return entry[1]
 
 
 def _robot_motion_rows(model: RobotModel) -> tuple[list, list]:
@@ -352,6 +388,15 @@ class _CollisionEnv:
             self._checkers[key] = entry
         return entry
 
+    def motion_checker(self, group: str | None) -> MotionChecker:
+        """The group's :class:`MotionChecker` (made once per set-up and group)."""
+        key = group or ""
+        checkers = self.__dict__.setdefault("_motion_checkers", {})
+        checker = checkers.get(key)
+        if checker is None:
+            checker = checkers[key] = MotionChecker(self, group)
+        return checker
+
     def colliding(self, q: np.ndarray, group: str | None) -> bool:
         _, manager = self.checker(group)
         return bool(pin.computeCollisions(self.model.pinocchio_model, self.data, manager, q, True))
@@ -383,32 +428,22 @@ class _CollisionEnv:
         if cached is not None:
             return cached
         model = self.model
-        robot = _robot_motion_rows(model)
-        rows, ancestors = [], []
         n_robot = len(model.collision_model.geometryObjects)
-        for g, go in enumerate(self.geom_model.geometryObjects):
-            if g < n_robot:
-                rows.append(robot[0][g])
-                ancestors.append(robot[1][g])
-            else:  # world objects (parent joint 0: zero row) and attached objects
-                b, anc = _geometry_motion_row(model, go)
+        extra = [g for g, kind in enumerate(self.kinds) if kind == "attached"]
+        robot = _robot_motion_model(model)
+        if not extra:  # the robot's own part, made once per robot model
+            B_robot, movable, T = robot
+            B = np.zeros((self.geom_model.ngeoms, B_robot.shape[1]))
+            B[:n_robot] = B_robot
+        else:
+            rows, ancestors = _robot_motion_rows(model)
+            rows, ancestors = list(rows), list(ancestors)
+            for g in range(n_robot, self.geom_model.ngeoms):
+                b, anc = _geometry_motion_row(model, self.geom_model.geometryObjects[g])
                 rows.append(b)
                 ancestors.append(anc)
-        B_own = np.array(rows).reshape(len(rows), model.pinocchio_model.nq)
-        anc = np.array(ancestors, dtype=bool).reshape(B_own.shape)
-        movable = np.nonzero(anc.any(axis=1))[0]
-        Bm, am = B_own[movable], anc[movable]
-        with np.errstate(invalid="ignore"):  # inf * 0: a joint above both moves neither apart
-            T = np.nan_to_num(Bm[:, None, :] * ~am[None, :, :], nan=0.0, posinf=np.inf)
-            T = T + np.swapaxes(T, 0, 1)
-        B = B_own.copy()
-        # a mimic master moves its followers too (never a joint "above both": the follower
-        # may move one body against the other)
-        for follower, master, multiplier, _ in model.mimic_followers:
-            B[:, master] += abs(multiplier) * B[:, follower]
-            T[:, :, master] += abs(multiplier) * T[:, :, follower]
-        for a in (B, movable, T):
-            a.flags.writeable = False
+            B, movable, T = _motion_model(model, np.array(rows), np.array(ancestors, dtype=bool))
+        B.flags.writeable = False
         self._motion_model = (B, movable, T)
         return self._motion_model
 
@@ -439,9 +474,10 @@ class MotionChecker:
         self._pm = pm
         self._gm = env.geom_model
         self._data = pm.createData()
-        _, self._manager = env.checker(group)
-        self._gd = env._geometry_data(env.pair_mask(group))
-        self._margin_manager = type(self._manager)(pm, self._gm, self._gd)
+        # the group's shared geometry data and broad phase: margins are set for clearance
+        # tests and set back to zero right after (plain checks read the same data)
+        self._gd, self._manager = env.checker(group)
+        self._zero = np.zeros((self._gm.ngeoms, self._gm.ngeoms))
         self._bounds, self._movable, self._pair_bounds = env.motion_model()
         self._block = np.ix_(self._movable, self._movable)
         self.certifiable = bool(np.all(np.isfinite(self._bounds)))
@@ -471,9 +507,13 @@ class MotionChecker:
     def clear_all(self, Q: np.ndarray, margins: np.ndarray) -> list[int]:
         """Indices of the rows of ``Q`` (full variable vectors) that are not clear by
         ``margins`` (as :meth:`clear`, with one set of margins)."""
-        self._gd.setSecurityMargins(self._gm, margins, True, True)
-        compute, pm, data, manager = self._compute, self._pm, self._data, self._margin_manager
-        return [i for i, q in enumerate(Q) if compute(pm, data, manager, q, True)]
+        gd, gm = self._gd, self._gm
+        gd.setSecurityMargins(gm, margins, True, True)
+        try:
+            compute, pm, data, manager = self._compute, self._pm, self._data, self._manager
+            return [i for i, q in enumerate(Q) if compute(pm, data, manager, q, True)]
+        finally:
+            gd.setSecurityMargins(gm, self._zero, True, True)
 
     def motion_free(self, qa: np.ndarray, qb: np.ndarray, n: int = 1, min_margin: float = 1e-6,
                     free_check: float = 1e-2) -> tuple[bool, int]:
@@ -524,8 +564,7 @@ class MotionChecker:
     def clear(self, q: np.ndarray, margins: np.ndarray) -> bool:
         """Whether every considered pair is farther apart at ``q`` than its entry of
         ``margins`` (from :meth:`margins`)."""
-        self._gd.setSecurityMargins(self._gm, margins, True, True)
-        return not self._compute(self._pm, self._data, self._margin_manager, q, True)
+        return not self.clear_all(q[None, :], margins)
 
 
 class PlanningScene:
@@ -941,7 +980,7 @@ class PlanningScene:
         """A :class:`MotionChecker` for ``group`` (continuous checks of straight motions), bound
         to the scene as it is now."""
         self._check_group(group)
-        return MotionChecker(self._collision_env(), group)
+        return self._collision_env().motion_checker(group)
 
     def check_states(self, Q: np.ndarray, group: str | None = None) -> np.ndarray:
         """Validity (collision-free) of each row of ``Q`` (n x variable_count)."""
