@@ -1,4 +1,4 @@
-"""MTC's Python binding tests: core/python/test/test_mtc.py and rostest_trampoline.py.
+"""MTC's Python binding tests: core/python/test/test_mtc.py, rostest_trampoline.py, rostest_mtc.py.
 
 Ported with the porting rule of api.md (imports only); robot-specific parts run on the Panda
 (upstream's ``manipulator`` group of a UR5 -> ``panda_arm``, ``tool0`` -> ``panda_link8``,
@@ -480,3 +480,53 @@ def test_trampoline_propagator(panda):
         PyMoveRelX(+0.2, cartesian),
     )
     _plan(task, expected_solutions=1)
+
+
+# --- rostest_mtc.py --------------------------------------------------------------------------
+
+
+def test_move_and_execute(panda):
+    """rostest_mtc.py test_MoveAndExecute (upstream's named goal "all-zeros" of the UR5 -> "ready")."""
+    move_rel = stages.MoveRelative("moveRel", core.JointInterpolationPlanner())
+    move_rel.group = PLANNING_GROUP
+    move_rel.setDirection({"panda_joint1": 0.2, "panda_joint2": 0.4})
+
+    move_to = stages.MoveTo("moveTo", core.JointInterpolationPlanner())
+    move_to.group = PLANNING_GROUP
+    move_to.setGoal("ready")
+
+    task = core.Task()
+    task.setRobotModel(panda)  # upstream: task.loadRobotModel(node)
+
+    task.add(stages.CurrentState("current"), move_rel, move_to)
+
+    assert task.plan()
+    assert len(task.solutions) == 1
+    task.execute(task.solutions[0])
+
+
+def test_merger(panda):
+    """rostest_mtc.py test_Merger: two displacements of the same group cannot be merged."""
+    cartesian = core.CartesianPath()
+
+    def create_displacement(group, displacement):
+        move = stages.MoveRelative("displace", cartesian)
+        move.group = group
+        move.ik_frame = PoseStamped(header=Header(frame_id="panda_link8"))
+        direction = Vector3Stamped(header=Header(frame_id="panda_link0"), vector=Vector3(*displacement))
+        move.setDirection(direction)
+        move.restrictDirection(stages.MoveRelative.Direction.FORWARD)
+        return move
+
+    task = core.Task()
+    task.setRobotModel(panda)
+
+    task.add(stages.CurrentState("current"))
+    merger = core.Merger("merger")
+    merger.insert(create_displacement(PLANNING_GROUP, [-0.2, 0, 0]))
+    merger.insert(create_displacement(PLANNING_GROUP, [0.2, 0, 0]))
+    task.add(merger)
+
+    task.enableIntrospection()
+    task.init()
+    assert not task.plan()
