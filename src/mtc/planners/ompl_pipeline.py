@@ -99,9 +99,12 @@ CERTIFY_FREE_CHECK = 1e-2
 #: Start states outside the bounds by at most this much are moved onto them [rad or m]
 #: (MoveIt's ``start_state_max_bounds_error``).
 START_STATE_MAX_BOUNDS_ERROR = 0.05
-#: Random shortcuts stop after this many tries in a row without a gain (at least one per
-#: path vertex); the greedy pass before them tries every vertex once.
-SHORTCUT_FAILURES = 5
+#: Random shortcuts stop after this many tries in a row without a gain; the greedy pass before
+#: them tries every vertex once. Each random shortcut adds two vertices that hug the obstacles,
+#: and every edge of the result is proven collision-free in full: on the MotionBenchMaker box
+#: and bookshelf problems (seeds 0, 1) 5 tries (at least one per vertex) took 224 000 state
+#: checks, 2 tries 181 000, none 171 000, for median path lengths of 4.87, 5.06 and 5.02 rad.
+SHORTCUT_FAILURES = 2
 #: Sub-searches with the search's own (sampled) checks that replace an edge failing the full
 #: check, before one with full checks of every edge it tries.
 REPAIR_TRIES = 2
@@ -565,7 +568,7 @@ def _path_length(path: np.ndarray) -> float:
 def _shortcut(path: np.ndarray, check: Callable[[np.ndarray, np.ndarray], bool], rng: np.random.Generator,
               deadline: float) -> np.ndarray:
     """Shorten a valid path: greedy vertex shortcuts, then random shortcuts between points on
-    the path until :data:`SHORTCUT_FAILURES` tries in a row (at least one per vertex) brought
+    the path until :data:`SHORTCUT_FAILURES` tries in a row brought
     nothing. The work is bounded by counts, not time, so a seed gives one result; ``deadline``
     (the request's) only stops it early. Every edge of the result passed ``check``."""
     path = [np.asarray(p, dtype=float) for p in path]
@@ -586,7 +589,7 @@ def _shortcut(path: np.ndarray, check: Callable[[np.ndarray, np.ndarray], bool],
     path = out
     # 2) random shortcuts between points on two different edges
     failures = 0
-    max_failures = max(SHORTCUT_FAILURES, len(path))
+    max_failures = SHORTCUT_FAILURES
     while len(path) > 2 and failures < max_failures and time.perf_counter() < deadline:
         seg = np.linalg.norm(np.diff(np.asarray(path), axis=0), axis=1)
         total = float(seg.sum())
