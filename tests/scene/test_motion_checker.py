@@ -165,3 +165,18 @@ def test_unbounded_joint_types_are_not_certifiable(scene):
     q = scene.current_state.positions
     with pytest.raises(ValueError, match="revolute or prismatic"):
         checker.motion_free(q, q)
+
+
+def test_whole_robot_set_up_serves_a_group_only_when_nothing_collides(scene):
+    """``motion_checker(group, state)`` reuses the whole robot's set-up when it exists and no
+    pair collides at ``state``; a collision of bodies the group does not move (a box in the
+    robot's base) keeps the group's own set-up, which ignores that pair."""
+    q = scene.current_state.positions.copy()
+    assert scene.motion_checker(ARM, q) is scene.motion_checker(ARM)  # no whole set-up yet
+    scene.is_state_colliding()
+    whole = scene.motion_checker(ARM, q)
+    assert whole is scene.motion_checker(None) and whole is not scene.motion_checker(ARM)
+    _box(scene, "in_base", (0.0, 0.0, 0.05), (0.1, 0.1, 0.1))
+    assert scene.is_state_colliding() and not scene.is_state_colliding(group=ARM)
+    checker = scene.motion_checker(ARM, q)
+    assert checker is scene.motion_checker(ARM) and checker.free(q)

@@ -335,7 +335,7 @@ class _EdgeChecker:
         ratio: int = 1,
     ):
         model = scene.robot_model
-        self._motion = scene.motion_checker(group.name)
+        self._motion = scene.motion_checker(group.name, np.array(base, dtype=float))
         self._collision_free = self._motion.free
         self._constraints = None if constraints is None or constraints.empty else constraints
         self._idx = group.variable_indices

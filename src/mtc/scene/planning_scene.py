@@ -388,6 +388,10 @@ class _CollisionEnv:
             self._checkers[key] = entry
         return entry
 
+    def has_checker(self, group: str | None) -> bool:
+        """Whether the group's fast-check set-up is made already."""
+        return (group or "") in self._checkers
+
     def motion_checker(self, group: str | None) -> MotionChecker:
         """The group's :class:`MotionChecker` (made once per set-up and group)."""
         key = group or ""
@@ -976,11 +980,25 @@ class PlanningScene:
         is_valid.collision_env = env
         return is_valid
 
-    def motion_checker(self, group: str | None = None) -> MotionChecker:
+    def motion_checker(self, group: str | None = None, state: np.ndarray | None = None) -> MotionChecker:
         """A :class:`MotionChecker` for ``group`` (continuous checks of straight motions), bound
-        to the scene as it is now."""
+        to the scene as it is now.
+
+        Args:
+            group: restrict to pairs involving a body the group moves.
+            state: the full variable vector the group's motions start from (other variables
+                as there). When the whole robot's set-up exists already (e.g. after
+                :meth:`is_state_colliding`) and no pair collides at ``state``, that set-up
+                serves the group: pairs of bodies the group does not move keep their distance,
+                so its answers are the group's, without making the group's set-up.
+        """
         self._check_group(group)
-        return self._collision_env().motion_checker(group)
+        env = self._collision_env()
+        if group and state is not None and env.has_checker(None):
+            whole = env.motion_checker(None)
+            if whole.free(np.asarray(state, dtype=float)):
+                return whole
+        return env.motion_checker(group)
 
     def check_states(self, Q: np.ndarray, group: str | None = None) -> np.ndarray:
         """Validity (collision-free) of each row of ``Q`` (n x variable_count)."""
