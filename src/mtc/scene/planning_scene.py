@@ -79,6 +79,12 @@ class AttachedObject:
         return self.object.id
 
 
+def _is_empty_pose(pose: msgs.Pose) -> bool:
+    """Whether a pose message is unset (all zeros, quaternion included), as MoveIt tests it."""
+    p, q = pose.position, pose.orientation
+    return p.x == p.y == p.z == 0.0 and q.x == q.y == q.z == q.w == 0.0
+
+
 def _check_name(name, what="object id") -> str:
     if not isinstance(name, str) or not name:
         raise ValueError(f"{what} must be a non-empty string, got {name!r}")
@@ -308,13 +314,14 @@ class _CollisionEnv:
         self.kinds = kinds
         self.pairs: list[tuple[int, int]] = []
         n = len(bodies)
-        allowed_cache: dict[tuple[str, str], bool] = {}
+        # (keyed by kind too: as in MoveIt, a world object and an attached one may share an id)
+        allowed_cache: dict[tuple[str, str, str, str], bool] = {}
         for i in range(n):
             for j in range(i + 1, n):
                 a, b = bodies[i], bodies[j]
-                if a == b or (kinds[i] == "world" and kinds[j] == "world"):
+                if (a == b and kinds[i] == kinds[j]) or (kinds[i] == "world" and kinds[j] == "world"):
                     continue
-                key = (a, b)
+                key = (a, kinds[i], b, kinds[j])
                 if key not in allowed_cache:
                     allowed = acm.get_entry(a, b)
                     if not allowed and kinds[i] == "attached" and b in touch.get(a, ()):
@@ -726,12 +733,17 @@ class PlanningScene:
     def _make_object(self, msg: msgs.CollisionObject, base: np.ndarray) -> WorldObject:
         """Build a WorldObject from a message, in the frame ``base`` (4x4)."""
         oid = msg.id
-        if len(msg.primitives) != len(msg.primitive_poses):
+        # as MoveIt: missing shape poses are identity, extra ones are an error
+        if len(msg.primitives) < len(msg.primitive_poses):
             raise ValueError(
-                f"object '{oid}': {len(msg.primitives)} primitives but {len(msg.primitive_poses)} primitive_poses"
+                f"object '{oid}': {len(msg.primitives)} primitives but {len(msg.primitive_poses)} primitive_poses "
+                "(at most one pose per primitive; missing ones are identity)"
             )
-        if len(msg.meshes) != len(msg.mesh_poses):
-            raise ValueError(f"object '{oid}': {len(msg.meshes)} meshes but {len(msg.mesh_poses)} mesh_poses")
+        if len(msg.meshes) < len(msg.mesh_poses):
+            raise ValueError(
+                f"object '{oid}': {len(msg.meshes)} meshes but {len(msg.mesh_poses)} mesh_poses "
+                "(at most one pose per mesh; missing ones are identity)"
+            )
         if msg.planes:
             raise ValueError(f"object '{oid}': planes are not supported (use a thin box)")
         if len(msg.subframe_names) != len(msg.subframe_poses):
@@ -739,17 +751,23 @@ class PlanningScene:
                 f"object '{oid}': {len(msg.subframe_names)} subframe_names but {len(msg.subframe_poses)} subframe_poses"
             )
         shapes, poses, geoms = [], [], []
-        for prim, pose in zip(msg.primitives, msg.primitive_poses):
+        identity = np.eye(4)
+        for k, prim in enumerate(msg.primitives):
             geoms.append(_primitive_geometry(prim, oid))
             shapes.append(prim)
-            poses.append(msgs.pose_to_matrix(pose))
-        for mesh, pose in zip(msg.meshes, msg.mesh_poses):
+            poses.append(msgs.pose_to_matrix(msg.primitive_poses[k]) if k < len(msg.primitive_poses) else identity)
+        for k, mesh in enumerate(msg.meshes):
             geoms.append(_mesh_geometry(mesh, oid))
             shapes.append(mesh)
-            poses.append(msgs.pose_to_matrix(pose))
+            poses.append(msgs.pose_to_matrix(msg.mesh_poses[k]) if k < len(msg.mesh_poses) else identity)
         if not shapes:
             raise ValueError(f"object '{oid}': ADD needs at least one primitive or mesh")
-        pose = base @ msgs.pose_to_matrix(msg.pose)
+        object_pose = msgs.pose_to_matrix(msg.pose)
+        if len(shapes) == 1 and _is_empty_pose(msg.pose):
+            # as MoveIt: a single shape given with an unset object pose defines the object's
+            # frame (so its subframes and grasp frames are relative to the shape)
+            object_pose, poses[0] = poses[0], object_pose
+        pose = base @ object_pose
         subframes = {n: msgs.pose_to_matrix(p) for n, p in zip(msg.subframe_names, msg.subframe_poses)}
         return WorldObject(oid, pose, tuple(shapes), tuple(poses), subframes, tuple(geoms))
 
@@ -775,8 +793,7 @@ class PlanningScene:
         _check_name(msg.id)
         base = self._frame_of_header(msg.header.frame_id, f"object '{msg.id}'")
         if op == msgs.CollisionObject.ADD:
-            if msg.id in self._attached:
-                raise ValueError(f"object '{msg.id}' is attached to the robot; detach it before adding it again")
+            # (as MoveIt, this replaces a world object of that id; an attached one stays)
             obj = self._make_object(msg, base)
             self._own_world()[msg.id] = obj
         elif op == msgs.CollisionObject.MOVE:
@@ -868,8 +885,7 @@ class PlanningScene:
         self._model.frame_id(msg.link_name)
         touch = self._touch_links(msg.touch_links)
         if obj.primitives or obj.meshes:
-            if obj.id in self._attached:
-                raise ValueError(f"object '{obj.id}' is already attached")
+            # (as MoveIt, an object of that id already attached is replaced)
             frame = obj.header.frame_id or msg.link_name
             base = self._frame_of_header(frame, f"object '{obj.id}'")
             world_obj = self._make_object(obj, base)
