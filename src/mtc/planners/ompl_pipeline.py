@@ -3,8 +3,8 @@
 This is the only module that imports ``ompl``. :class:`OMPLPipeline` answers MoveIt-style
 motion plan requests (a joint goal or a pose goal, path constraints, a time budget, a number
 of attempts) with a geometric :class:`~mtc.scene.robot_trajectory.RobotTrajectory`: simplified,
-interpolated, collision-free at the checking resolution and inside the path constraints at
-every waypoint. Time parameterization is the caller's business (``PipelinePlanner``).
+interpolated, collision-free at every state between its waypoints (proven, not sampled: see
+step 4) and inside the path constraints at every waypoint. Time parameterization is the caller's business (``PipelinePlanner``).
 
 How a request is answered (MoveIt's ``ompl_interface`` with its default request adapters):
 
@@ -21,9 +21,16 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    :class:`_EdgeChecker` in numpy batches: states interpolated along the edge, checked end
    first and then by bisection (so a blocked edge is usually found out after a few checks),
    with the scene's broad-phase collision check and the path constraints. The search checks
-   every :data:`DEFAULT_SEARCH_RATIO`-th state (0.06 rad apart); the answer is checked at
-   every state (:data:`DEFAULT_RESOLUTION`, 0.015 rad), and an edge of the search's path that
-   fails there is replanned with full checks. Start and goal are exact; the goal tolerance
+   every :data:`DEFAULT_SEARCH_RATIO`-th state (0.06 rad apart). Every edge of the answer is
+   then proven collision-free at every state on it
+   (:meth:`~mtc.scene.planning_scene.MotionChecker.motion_free`: around a checked state, no
+   pair of bodies can close a gap larger than a bound on how far they move, so the check of
+   a state with that gap as coal's security margin covers a whole stretch of the edge;
+   stretches not covered are halved). So the path is free at any interpolation resolution,
+   as long as the robot's joints are revolute or prismatic (others: checked at every
+   :data:`DEFAULT_RESOLUTION` state, 0.015 rad). Path constraints hold at every
+   :data:`DEFAULT_RESOLUTION` state. An edge that fails is replanned (sub-searches whose
+   paths are then proven). Start and goal are exact; the goal tolerance
    only admits goals already that close. RRTConnect (the default) that has not found a path
    after :data:`FALLBACK_CHECKS` state checks hands over to :data:`FALLBACK_PLANNER`
    (BKPIECE1), then gets the next turn with a new seed, the budget doubling each turn: a
@@ -31,8 +38,7 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
 5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
    points on the path, bounded by counts so that a seed gives one result), then
    interpolated to waypoints at most ``maximum extent / 100`` apart (at least
-   :data:`MIN_WAYPOINT_COUNT`), as MoveIt does. Every waypoint is one of the states the edge
-   checker validated.
+   :data:`MIN_WAYPOINT_COUNT`), as MoveIt does. Every waypoint lies on a proven edge.
 
 Path constraints: joint constraints narrow the planner's joint bounds. Position and
 orientation constraints make a constrained problem that a state sampler cannot reach through
@@ -82,19 +88,22 @@ __all__ = [
     "resolve_planner_id",
 ]
 
-#: Largest change of any joint between two states checked along an edge [rad or m]. 0.015 rad
-#: moves a point 1 m from the joint axis by 1.5 cm; the Panda's links are at most ~0.3 m long
-#: beyond the wrist and its collision meshes are convex hulls, so thin obstacles of ~1 cm are
-#: still caught. MoveIt's default (``longest_valid_segment_fraction`` 0.005 of the maximum
-#: extent) is about 0.065 rad in the Euclidean norm for the Panda.
+#: Largest change of any joint between two states checked along an edge [rad or m] for path
+#: constraints, and for collisions on robots whose joints have no motion bound (collisions are
+#: otherwise proven between the sampled states, see :meth:`_EdgeChecker._certify`). The search
+#: samples :data:`DEFAULT_SEARCH_RATIO` times coarser. MoveIt's default
+#: (``longest_valid_segment_fraction`` 0.005 of the maximum extent) is about 0.065 rad in the
+#: Euclidean norm for the Panda.
 DEFAULT_RESOLUTION = 0.015
-#: A motion whose bodies cannot be proven apart by checks of states at most this far from
-#: every state of an interval [m] (twice the distance each body moves within it) counts as
-#: colliding (see :meth:`_EdgeChecker._certify`): it grazes an obstacle.
+#: A stretch of a motion in which bodies can close in by less than this [m] and that is still
+#: not proven free counts as colliding (see :meth:`_EdgeChecker._certify`): the motion grazes
+#: an obstacle closer than that.
 CERTIFY_MIN_MARGIN = 1e-6
-#: Intervals whose bodies can close in by less than this [m] without being covered have their
-#: middle states checked for collisions (before, a failed cover is just halved: a collision
-#: between the checked states of a path is rare).
+#: Stretches in which bodies can close in by less than this [m] and that are not proven free
+#: have their middle states checked for a collision (the edge fails); longer ones are just
+#: halved (a collision between the sampled states of an answer's edge is rare). On the
+#: MotionBenchMaker box and bookshelf problems 1 mm, 3 mm, 1 cm and 3 cm all needed within 2%
+#: of the same state checks.
 CERTIFY_FREE_CHECK = 1e-2
 #: Start states outside the bounds by at most this much are moved onto them [rad or m]
 #: (MoveIt's ``start_state_max_bounds_error``).
@@ -257,9 +266,9 @@ class PlanStats:
         path_length: joint-space length (Euclidean per segment) of the returned path [rad].
         attempts: attempts run.
         search_checks: state checks made by the search (the rest: shortcutting and the
-            full-resolution check of the result).
-        fine_retries: edges of a search's path that failed the full-resolution check and were
-            replanned with full checks.
+            full check of the result).
+        fine_retries: edges of a search's path that failed the full check (collision-free at
+            every state on them) and were replanned.
         certify_checks: state checks spent proving edges collision-free between their
             sampled states (part of ``states_checked``).
     """
@@ -623,7 +632,7 @@ def _shortcut(path: np.ndarray, check: Callable[[np.ndarray, np.ndarray], bool],
 def _interpolate(path: np.ndarray, checker: _EdgeChecker, max_segment: float, min_count: int) -> np.ndarray:
     """Waypoints along ``path``: each edge in ``ceil(length / max_segment)`` pieces (more if the
     whole path would have fewer than ``min_count`` waypoints), each waypoint one of the states
-    the checker validated on that edge."""
+    the checker sampled on that edge."""
     if len(path) < 2:
         return np.asarray(path)
     seg = np.linalg.norm(np.diff(path, axis=0), axis=1)
@@ -1070,10 +1079,10 @@ class OMPLPipeline:
 
     def _finalize(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int):
         """Shortcut a path the search found (its edges valid at the search resolution) and make
-        sure the result is valid at the full resolution. Edges of the shortened path that fail
-        the full check are replanned with full checks (a short sub-search each; the search's
-        own path is repaired that way if this fails), and the result shortened again with full
-        checks. None if that does not succeed in time."""
+        sure the result is valid in full (:meth:`_EdgeChecker.edge_ok_fine`: collision-free at
+        every state). Edges of the shortened path that fail the full check are replanned (a
+        short sub-search each; the search's own path is repaired that way if this fails), and
+        the result shortened again with full checks. None if that does not succeed in time."""
         t0 = time.perf_counter()
         checker = req.checker
         deadline = req.deadline
@@ -1094,8 +1103,9 @@ class OMPLPipeline:
         return out
 
     def _repair(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int):
-        """``path`` with every edge that fails the full-resolution check replaced by a path
-        searched with full checks; None if a replacement is not found in time."""
+        """``path`` with every edge that fails the full check replaced by a path searched anew
+        (:data:`REPAIR_TRIES` sub-searches with the search's checks whose paths are then
+        checked in full, then one with full checks); None if none is found in time."""
         checker = req.checker
         out = [path[0]]
         fine_before = checker.search_fine
