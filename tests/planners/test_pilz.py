@@ -262,11 +262,11 @@ def test_circ_input_errors(ready_scene):
     planner = _pilz("CIRC")
     result, _ = planner.plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
     assert result.message.startswith("INVALID_GOAL_CONSTRAINTS: CIRC needs path_constraints named 'interim' or 'center'")
-    off_center = T0[:3, 3] + [0.0, 0.05, 0.0]
+    off_center = T0[:3, 3] + [0.0, 0.05, 0.0]  # 5 cm from the start, 15 cm from the goal (Pilz allows 1 cm)
     result, _ = planner.plan_to_pose(
         ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("center", off_center)
     )
-    assert result.message.startswith("PLANNING_FAILED: CIRC: start and goal are at different distances from the center")
+    assert result.message.startswith("INVALID_MOTION_PLAN: CIRC: start and goal are at different distances from the center")
     colinear = T0[:3, 3] + [0.0, 0.1, 0.0]
     result, _ = planner.plan_to_pose(
         ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("interim", colinear)

@@ -85,7 +85,7 @@ def test_add_box_sphere_cylinder_cone():
     psi.add_cylinder("can", stamped((0.5, -0.3, 0.1)), height=0.2, radius=0.04)
     psi.add_cone("cone", stamped((0.6, -0.3, 0.1)), height=0.2, radius=0.04)
     scene = current_scene()
-    assert scene.world_object_names == ["box", "ball", "can", "cone"]
+    assert scene.world_object_names == ["ball", "box", "can", "cone"]  # sorted by id, as MoveIt's map
     expected = {
         "box": (SolidPrimitive.BOX, [0.1, 0.2, 0.3], [0.5, 0.0, 0.1]),
         "ball": (SolidPrimitive.SPHERE, [0.05], [0.5, 0.3, 0.1]),
@@ -186,10 +186,28 @@ def test_attach_box_and_remove_attached_object():
     np.testing.assert_allclose(scene.get_frame_transform("held"), moved, atol=1e-12)
 
 
-def test_attach_box_default_pose_is_the_link_origin():
-    """attach_box without a pose puts the box at the link's origin."""
+def test_attach_box_without_a_pose_attaches_the_existing_object():
+    """As moveit_commander: attach_box(link, name) attaches the world object ``name`` where it is,
+    with ``[link]`` as touch links; an unknown name changes nothing."""
     psi = PlanningSceneInterface()
-    psi.attach_box("panda_link8", "puck", size=(0.05, 0.05, 0.01))
+    psi.add_box("puck", stamped((0.5, 0.0, 0.1)), size=(0.05, 0.05, 0.01))
+    scene = current_scene()
+    before = scene.get_frame_transform("puck")
+    psi.attach_box("panda_link8", "puck")
+    assert scene.attached_object_names == ["puck"] and scene.world_object_names == []
+    att = scene.get_attached_object("puck")
+    assert att.link == "panda_link8" and att.touch_links == {"panda_link8"}
+    assert att.object.shapes[0].dimensions == [0.05, 0.05, 0.01]
+    np.testing.assert_allclose(scene.get_frame_transform("puck"), before, atol=1e-12)
+    with pytest.raises(KeyError, match="'ghost'"):
+        psi.attach_box("panda_link8", "ghost")
+    assert scene.attached_object_names == ["puck"]
+
+
+def test_attach_box_at_the_link_origin():
+    """A pose in the link's frame at its origin puts the box there."""
+    psi = PlanningSceneInterface()
+    psi.attach_box("panda_link8", "puck", stamped((0.0, 0.0, 0.0), frame="panda_link8"), size=(0.05, 0.05, 0.01))
     scene = current_scene()
     np.testing.assert_allclose(
         scene.get_frame_transform("puck"), scene.current_state.get_global_link_transform("panda_link8"), atol=1e-12
@@ -200,16 +218,16 @@ def test_attach_box_to_an_unknown_link_changes_nothing():
     """Attaching to an unknown link names it and the links, and adds nothing."""
     psi = PlanningSceneInterface()
     with pytest.raises(KeyError, match=r"'panda_palm'.*panda_hand"):
-        psi.attach_box("panda_palm", "b", size=(0.1, 0.1, 0.1))
+        psi.attach_box("panda_palm", "b", stamped((0.0, 0.0, 0.0), frame="panda_palm"), size=(0.1, 0.1, 0.1))
     assert psi.get_known_object_names() == []
 
 
 def test_remove_attached_object_of_a_link_and_all():
     """remove_attached_object(link) detaches that link's objects; () detaches all; an unknown name raises."""
     psi = PlanningSceneInterface()
-    psi.attach_box("panda_hand", "a", size=(0.01, 0.01, 0.01))
-    psi.attach_box("panda_link5", "b", size=(0.01, 0.01, 0.01))
-    psi.attach_box("panda_link5", "c", size=(0.01, 0.01, 0.01))
+    psi.attach_box("panda_hand", "a", stamped((0.0, 0.0, 0.0), frame="panda_hand"), size=(0.01, 0.01, 0.01))
+    psi.attach_box("panda_link5", "b", stamped((0.0, 0.0, 0.0), frame="panda_link5"), size=(0.01, 0.01, 0.01))
+    psi.attach_box("panda_link5", "c", stamped((0.0, 0.0, 0.0), frame="panda_link5"), size=(0.01, 0.01, 0.01))
     psi.remove_attached_object("panda_link5")
     scene = current_scene()
     assert scene.attached_object_names == ["a"]
@@ -225,8 +243,8 @@ def test_queries():
     psi = PlanningSceneInterface()
     psi.add_box("box", stamped((0.5, 0.0, 0.1), quat=(0.0, 0.0, np.sin(0.2), np.cos(0.2))), size=(0.1, 0.2, 0.3))
     psi.add_sphere("ball", stamped((0.5, 0.3, 0.1)), radius=0.05)
-    psi.attach_box("panda_hand", "held", size=(0.01, 0.01, 0.01))
-    assert psi.get_known_object_names() == ["box", "ball", "held"]
+    psi.attach_box("panda_hand", "held", stamped((0.0, 0.0, 0.0), frame="panda_hand"), size=(0.01, 0.01, 0.01))
+    assert psi.get_known_object_names() == ["ball", "box", "held"]
     objects = psi.get_objects()
     assert sorted(objects) == ["ball", "box"]
     assert isinstance(objects["box"], msgs.CollisionObject)
@@ -247,7 +265,7 @@ def test_clear():
     """clear() detaches everything and removes every world object."""
     psi = PlanningSceneInterface()
     psi.add_box("box", stamped((1.0, 0.0, 0.0)))
-    psi.attach_box("panda_hand", "held", size=(0.01, 0.01, 0.01))
+    psi.attach_box("panda_hand", "held", stamped((0.0, 0.0, 0.0), frame="panda_hand"), size=(0.01, 0.01, 0.01))
     psi.clear()
     assert psi.get_known_object_names() == []
 

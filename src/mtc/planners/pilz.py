@@ -53,7 +53,7 @@ PIPELINE_NAME = "pilz_industrial_motion_planner"
 KNOWN_PLANNERS = ("PTP", "LIN", "CIRC")
 DEFAULT_PLANNER = "PTP"
 
-_RADIUS_TOLERANCE = 1e-3  # [m] start and goal distance to a CIRC centre may differ this much
+_RADIUS_TOLERANCE = 1e-2  # [m] start and goal distance to a CIRC centre may differ this much (as Pilz)
 _COLINEAR = 1e-6
 
 
@@ -344,8 +344,9 @@ class PilzPipeline:
             radius0, radius1 = float(np.linalg.norm(r0)), float(np.linalg.norm(r1))
             if abs(radius0 - radius1) > _RADIUS_TOLERANCE:
                 raise _Failure(error_message(
-                    "PLANNING_FAILED",
-                    f"CIRC: start and goal are at different distances from the center ({radius0:.4f} m, {radius1:.4f} m)",
+                    "INVALID_MOTION_PLAN",
+                    f"CIRC: start and goal are at different distances from the center ({radius0:.4f} m, {radius1:.4f} m; "
+                    f"at most {_RADIUS_TOLERANCE} m apart): a circle cannot be created",
                 ))
             normal = np.cross(r0, r1)
             if radius0 < _COLINEAR or np.linalg.norm(normal) < _COLINEAR * radius0 * radius1:

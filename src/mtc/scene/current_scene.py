@@ -152,23 +152,34 @@ class PlanningSceneInterface:
         self.scene.apply_attached_collision_object(attached)
 
     def attach_box(self, link: str, name: str, pose=None, size=(1.0, 1.0, 1.0), touch_links=()) -> None:
-        """Attach a new box to ``link`` (pose default: the link's origin)."""
-        pose = msgs.PoseStamped(header=msgs.Header(frame_id=link)) if pose is None else pose
-        obj = _primitive_object(name, pose, msgs.SolidPrimitive.BOX, size)
-        obj.header.frame_id = obj.header.frame_id or link
-        self.attach_object(msgs.AttachedCollisionObject(link_name=link, object=obj, touch_links=list(touch_links)))
+        """Attach a new box to ``link`` at ``pose``; without a pose, attach the existing object
+        ``name`` (as moveit_commander). ``touch_links`` default to ``[link]``."""
+        if pose is None:
+            obj = msgs.CollisionObject(id=name)
+        else:
+            obj = _primitive_object(name, pose, msgs.SolidPrimitive.BOX, size)
+            obj.header.frame_id = obj.header.frame_id or link
+        self._attach(link, obj, touch_links)
 
     def attach_mesh(self, link: str, name: str, pose=None, filename: str = "", size=(1.0, 1.0, 1.0), touch_links=()) -> None:
-        """Attach a mesh loaded from ``filename`` to ``link``."""
-        ps = msgs.PoseStamped(header=msgs.Header(frame_id=link)) if pose is None else _pose_stamped(pose, name)
-        obj = msgs.CollisionObject(
-            header=msgs.Header(frame_id=ps.header.frame_id or link),
-            pose=ps.pose,
-            id=name,
-            meshes=[mesh_file_to_msg(filename, size)],
-            mesh_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
-        )
-        self.attach_object(msgs.AttachedCollisionObject(link_name=link, object=obj, touch_links=list(touch_links)))
+        """Attach a mesh loaded from ``filename`` to ``link`` at ``pose``; without a pose or a
+        file, attach the existing object ``name`` (as moveit_commander)."""
+        if pose is None or not filename:
+            obj = msgs.CollisionObject(id=name)
+        else:
+            ps = _pose_stamped(pose, name)
+            obj = msgs.CollisionObject(
+                header=msgs.Header(frame_id=ps.header.frame_id or link),
+                pose=ps.pose,
+                id=name,
+                meshes=[mesh_file_to_msg(filename, size)],
+                mesh_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+            )
+        self._attach(link, obj, touch_links)
+
+    def _attach(self, link: str, obj: msgs.CollisionObject, touch_links) -> None:
+        touch = [touch_links] if isinstance(touch_links, str) else list(touch_links)
+        self.attach_object(msgs.AttachedCollisionObject(link_name=link, object=obj, touch_links=touch or [link]))
 
     def remove_attached_object(self, link: str | None = None, name: str | None = None) -> None:
         """Detach ``name`` (or every object of ``link``, or every object); detached objects

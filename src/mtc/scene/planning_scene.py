@@ -687,11 +687,13 @@ class PlanningScene:
     # ------------------------------------------------------------------ world objects
     @property
     def world_object_names(self) -> list[str]:
-        return list(self._world)
+        """Ids of the world objects, sorted (MoveIt's world is a map by id)."""
+        return sorted(self._world)
 
     @property
     def attached_object_names(self) -> list[str]:
-        return list(self._attached)
+        """Ids of the attached objects, sorted (as MoveIt's map of attached bodies)."""
+        return sorted(self._attached)
 
     def get_world_object(self, name: str) -> WorldObject:
         """The world object ``name``.
@@ -1164,7 +1166,7 @@ class PlanningScene:
                 name=list(self._model.variable_names),
                 position=st._q.tolist(),
             ),
-            attached_collision_objects=[self.get_attached_collision_object_msg(n) for n in self._attached],
+            attached_collision_objects=[self.get_attached_collision_object_msg(n) for n in self.attached_object_names],
         )
 
     def get_planning_scene_msg(self) -> msgs.PlanningScene:
@@ -1175,7 +1177,7 @@ class PlanningScene:
             robot_model_name=self._model.name,
             allowed_collision_matrix=self._acm.to_msg(),
             world=msgs.PlanningSceneWorld(
-                collision_objects=[self.get_collision_object_msg(n) for n in self._world]
+                collision_objects=[self.get_collision_object_msg(n) for n in self.world_object_names]
             ),
             is_diff=False,
         )
