@@ -48,14 +48,21 @@ def _geometry_points(geometry) -> np.ndarray:
 
 
 def test_motion_bounds_hold_for_random_motions(scene):
-    """No point of any robot geometry moves farther than ``rates(dq)`` says (every variable,
-    the fingers' mimic included), and pairs never close in faster than ``margins``."""
+    """No point of any robot geometry, or of an object attached to the hand, moves farther
+    than ``rates(dq)`` says (every variable, the fingers' mimic included), and pairs never
+    close in faster than ``margins``."""
+    state = scene.current_state
+    hand = state.get_global_link_transform("panda_hand")
+    _box(scene, "tool", hand[:3, 3] + hand[:3, 2] * 0.2, (0.04, 0.04, 0.25))
+    scene.attach_object("tool", "panda_hand", ["panda_leftfinger", "panda_rightfinger"])
     checker = scene.motion_checker()
     env = scene._collision_env()
     model = scene.robot_model
     pm, gm = model.pinocchio_model, env.geom_model
     data, gd = pm.createData(), gm.createData()
     points = [_geometry_points(go.geometry) for go in gm.geometryObjects]
+    tool = [g for g, go in enumerate(gm.geometryObjects) if go.name.startswith("tool")]
+    assert len(tool) == 1 and checker.rates(np.ones(model.variable_count))[tool[0]] > 0
     rng = np.random.default_rng(4)
     lo = np.where(np.isfinite(model.lower_bounds), model.lower_bounds, -math.pi)
     hi = np.where(np.isfinite(model.upper_bounds), model.upper_bounds, math.pi)
