@@ -122,3 +122,21 @@ def test_joint_interpolation_checks_between_its_waypoints(panda, add_box, ready_
     result, traj = plan()
     assert not result and result.message == "Waypoint is in collision!"
     assert len(traj) == 2 and all(not scene.is_state_colliding(w, ARM) for w in traj)
+
+
+def test_start_moved_onto_its_bounds_keeps_the_path_free(panda, ready_scene):
+    """A start slightly beyond a joint bound is moved onto it; the returned path starts at the
+    original start and is free at 1 mrad from there (the move onto the bound included)."""
+    scene = ready_scene
+    start = scene.current_state.copy()
+    upper = panda.get_joint_model_group(ARM).upper_bounds[0]
+    start.set_variable_positions({"panda_joint1": upper + 0.03})
+    goal = scene.current_state.copy()
+    goal.set_variable_positions({"panda_joint1": 0.5, "panda_joint2": 0.2})
+    result, traj = OMPLPipeline().plan_joint(scene, start, goal, ARM, timeout=5.0, seed=2)
+    assert result, result.message
+    np.testing.assert_array_equal(traj[0].positions, start.positions)
+    assert traj[1].positions[0] == pytest.approx(upper)
+    idx = panda.get_joint_model_group(ARM).variable_indices
+    Q = _dense_states(traj[0].positions.copy(), idx, traj.positions, 0.001)
+    assert scene.check_states(Q, ARM).all()

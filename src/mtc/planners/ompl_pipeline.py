@@ -536,6 +536,27 @@ class _EdgeChecker:
         self.check_time += time.perf_counter() - t0
         return ok
 
+    def motion_ok(self, qa: np.ndarray, qb: np.ndarray) -> bool:
+        """Whether the state ``qa`` (a full variable vector) and the straight motion from it to
+        ``qb`` (continuous joints the short way) are collision-free at every state
+        (:meth:`_certify`; sampled at the resolution where the joints allow no proof)."""
+        model = self._model
+        delta = np.asarray(qb, dtype=float) - qa
+        cont = model.continuous_mask
+        if cont.any():
+            delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
+        self.states_checked += 1
+        if not self._collision_free(qa):
+            return False
+        if self.certified:
+            ok, checks = self._motion.motion_free(qa, qa + delta, 1, CERTIFY_MIN_MARGIN, CERTIFY_FREE_CHECK)
+            self.states_checked += checks
+            self.certify_checks += checks
+            return ok
+        n = max(1, math.ceil(float(np.abs(delta).max(initial=0.0)) / self.resolution - 1e-9))
+        self.states_checked += n - 1
+        return all(self._collision_free(qa + (k / n) * delta) for k in range(1, n))
+
     def path_ok(self, path: np.ndarray, fine: bool = False) -> bool:
         check = self.edge_ok_fine if fine else self.edge_ok
         return all(check(path[i], path[i + 1]) for i in range(len(path) - 1))
@@ -892,6 +913,17 @@ class OMPLPipeline:
                 req,
                 "START_STATE_VIOLATES_PATH_CONSTRAINTS: start state violates the path constraints: "
                 + "; ".join(evaluator.describe(base)),
+            )
+        if original is not None and not checker.motion_ok(original, base):
+            # the returned path begins with the original start: its way onto the bounds counts
+            collisions = scene.get_collisions(RobotState(model, original), jmg.name)
+            pairs = ", ".join(f"{a} - {b}" for a, b in collisions)
+            return None, self._fail(
+                req,
+                "START_STATE_IN_COLLISION: " + (
+                    f"start state is in collision: {pairs}" if pairs
+                    else "the motion from the start state onto its joint bounds collides"
+                ),
             )
         if np.any(x < lower - 1e-12) or np.any(x > upper + 1e-12):
             return None, self._fail(
