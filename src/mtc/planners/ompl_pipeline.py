@@ -433,14 +433,6 @@ class _EdgeChecker:
                 self._fine_t[n] = t
         return t
 
-    def _states(self, a: np.ndarray, d: np.ndarray, t: np.ndarray) -> np.ndarray:
-        """Full variable vectors of the states ``a + t_i d`` (a new array)."""
-        Q = np.repeat(self._base[None, :], len(t), axis=0)
-        Q[:, self._cols] = a + t[:, None] * d
-        if self._mimic:
-            self._model.enforce_mimic(Q)
-        return Q
-
     def _check_params(self, a: np.ndarray, d: np.ndarray, t: np.ndarray) -> bool:
         """Whether the states ``a + t_i d`` are valid, checked in the order of ``t``."""
         t0 = time.perf_counter()
