@@ -373,6 +373,46 @@ def test_grasp_poses_are_spawned_in_angle_order_with_mtcs_comments(make_task, bo
         assert s.end.scene.current_state.joint_positions["panda_finger_joint1"] == pytest.approx(0.0)
 
 
+@pytest.mark.parametrize("introspection", [True, False])
+def test_generators_report_bad_objects_as_mtc(make_task, ready_scene, introspection):
+    """generate_grasp_pose.cpp (41465b57), GenerateGraspPose::onNewSolution(): an object that is
+    not in the scene is spawned as a failure at once (counted even without introspection);
+    generate_place_pose.cpp (79075b5f), GeneratePlacePose::onNewSolution(): a bad object is a
+    failure only ``if (storeFailures())``, else just a warning (nothing counted)."""
+    def run(generator):
+        fixed = _fixed(ready_scene)
+        generator.setMonitoredStage(fixed)
+        task = make_task(fixed, stages.Connect("c", [("panda_arm", JointInterpolationPlanner())]), generator,
+                         introspection=introspection)
+        assert not task.plan()
+        return generator
+
+    grasp = stages.GenerateGraspPose("grasp")
+    grasp.eef, grasp.object, grasp.pregrasp = "hand", "ghost", "open"
+    grasp = run(grasp)
+    assert grasp.numFailures() == 1 and len(grasp.solutions) == 0
+    assert [f.comment for f in grasp.failures] == (["object 'ghost' not in scene"] if introspection else [])
+    place = stages.GeneratePlacePose("place")
+    place.object, place.pose = "ghost", msgs.PoseStamped()
+    place = run(place)
+    assert place.numFailures() == (1 if introspection else 0) and len(place.solutions) == 0
+
+
+def test_monitoring_generators_ignore_failures_of_the_monitored_stage(make_task, ready_scene, box):
+    """stage.cpp, MonitoringGeneratorPrivate::solutionCB(): "forward only successful solutions
+    to monitor" - a stored failure of the monitored stage (FixedState "in collision") does not
+    reach GeneratePose."""
+    ready_scene.apply_collision_object(box("wall", (0.3, 0.0, 0.5), size=(0.2, 0.2, 0.2)))
+    fixed = _fixed(ready_scene)
+    g = stages.GeneratePose("pose")
+    g.pose = msgs.PoseStamped()
+    g.setMonitoredStage(fixed)
+    task = make_task(fixed, stages.Connect("c", [("panda_arm", JointInterpolationPlanner())]), g)
+    assert not task.plan()
+    assert len(fixed.failures) == 1
+    assert g.numFailures() == 0 and len(g.solutions) == 0
+
+
 def test_compute_ik_cost_is_upstream_cost_plus_distance_to_the_reference(make_task):
     """compute_ik.cpp (98000f37), ComputeIK::compute(): ``solution.setCost(s.cost() +
     jmg->distance(ik_solution, compare_pose))`` with compare_pose = the named ``default_pose``
