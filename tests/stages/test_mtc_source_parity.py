@@ -258,6 +258,24 @@ def test_move_to_failure_without_trajectory_is_shown_as_a_two_point_trajectory(m
     np.testing.assert_allclose(traj[1].positions, goal.current_state.positions)
 
 
+def test_move_to_stored_failure_without_trajectory_prunes(make_task, ready_scene):
+    """move_to.cpp (1957a0c1), MoveTo::compute(): with stored failures (introspection) a
+    missing trajectory is made up, so the failure is sent (stage.cpp storeSolution ->
+    ``parent()->onNewFailure``): with pruning on, the end state of b is pruned and the Connect
+    before never connects a and b."""
+    goal = ready_scene.diff()
+    goal.current_state.set_to_default_values("panda_arm", "extended")
+    move = stages.MoveTo("m", _FailingPlanner("no way"))
+    move.group = "panda_arm"
+    move.setGoal("ready")
+    connect = stages.Connect("c", [("panda_arm", JointInterpolationPlanner())])
+    task = make_task(_fixed(ready_scene, "a"), connect, _fixed(goal, "b"), move, introspection=True)
+    task.pruning = True
+    assert not task.plan()
+    assert [f.comment for f in move.failures] == ["no way"]
+    assert len(connect.solutions) == 0 and connect.numFailures() == 0
+
+
 # ----------------------------------------------------------------------------------- Connect
 def test_connect_failure_is_a_sequence_ending_in_the_failed_group(make_task, ready_scene):
     """connect.cpp (98000f37), Connect::compute() + makeSequential(): planning stops at the
