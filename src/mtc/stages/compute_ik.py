@@ -8,12 +8,15 @@ property. For each of the child's solutions, cheapest first, it
 2. resolves the end effector / group, the target in the planning frame and the IK frame
    (a link, an attached object or an object's subframe, plus an offset on it),
 3. unless ``ignore_collisions``, checks the end-effector links placed at the target against
-   the world ("eef in collision: a - b"),
+   the world ("<upstream comment> eef in collision: a - b", the first colliding pair),
 4. solves IK, first from the scene's state, then from random seeds, and spawns every
    distinct candidate (closer than ``min_solution_distance`` to an earlier one counts as
    the same): valid ones with cost = upstream cost + joint distance to ``default_pose`` (or
-   to the start state), colliding ones as failures "Collision between a - b", ones violating
-   ``constraints`` as failures "Constraints violated"; with none at all, "no IK found".
+   to the start state), colliding ones as failures "Collision between 'a' and 'b'", ones
+   violating ``constraints`` as failures "Constraints violated" (both before the upstream
+   comment, on a line of their own); with none at all, "<upstream comment> no IK found".
+   As in MTC, the search stops once ``max_ik_solutions`` candidates are recorded, valid or
+   not, checked after each IK call (descents until one finds a valid candidate).
 
 ComputeIK spawns its own solutions (``SubTrajectory`` without trajectory), not wrapped ones.
 
@@ -53,9 +56,10 @@ from mtc.stages.generate_pose import SolutionQueue, frame_marker
 __all__ = ["ComputeIK"]
 
 
-def _join(prefix: str, text: str) -> str:
-    """MTC prepends the upstream solution's comment (``s.comment() + " no IK found"``)."""
-    return f"{prefix} {text}" if prefix else text
+def _first_pair(pairs) -> tuple[str, str]:
+    """The one contact MTC reports (MoveIt's requests keep one contact, its two body names in
+    alphabetical order): here the alphabetically first colliding pair, for determinism."""
+    return min(tuple(sorted(p[:2])) for p in pairs)
 
 
 def _inverse(T: np.ndarray) -> np.ndarray:
@@ -275,7 +279,9 @@ class ComputeIK(WrapperBase):
         if not ignore_collisions:
             pairs = eef_collisions(scene, link, link_target)
             if pairs:
-                self._fail(s, _join(s.comment, f"eef in collision: {format_collision_pairs(pairs)}"), markers=markers)
+                # (MTC's text: the upstream comment, then " eef in collision: a - b")
+                self._fail(s, f"{s.comment} eef in collision: {format_collision_pairs([_first_pair(pairs)])}",
+                           markers=markers)
                 return
 
         # 6. reference for the cost
@@ -285,7 +291,7 @@ class ComputeIK(WrapperBase):
             solver = ik_module.get_ik_solver(model, jmg.name, link)
         except ValueError:
             # no variable of the group moves the IK frame
-            self._fail(s, _join(s.comment, "no IK found"), markers=markers)
+            self._fail(s, f"{s.comment} no IK found", markers=markers)
             return
         start_q = scene.current_state.positions.copy()
         reference = start_q.copy()
@@ -318,50 +324,65 @@ class ComputeIK(WrapperBase):
         # the clock starts after all set-up, so only IK and checks count against the timeout
         deadline = time.perf_counter() + float(p.get("timeout"))
         idx = np.asarray(jmg.variable_indices, dtype=int)
+        # As MTC, the loop runs while fewer candidates than max_ik_solutions are recorded, valid
+        # or not, and each round is one IK call (MoveIt's setFromIK with a validity callback):
+        # descents until one records a valid candidate, recording the invalid ones on the way.
         recorded: list[np.ndarray] = []
-        found = 0
         attempts = 0
-        while found < max_solutions and attempts < max_attempts:
-            if attempts > 0 and time.perf_counter() >= deadline:
+        while len(recorded) < max_solutions and attempts < max_attempts:
+            succeeded = False
+            call_attempts = 0
+            while call_attempts < attempts_per_solution and attempts < max_attempts:
+                if attempts > 0 and time.perf_counter() >= deadline:
+                    break
+                q = start_q.copy()
+                if attempts > 0:
+                    q[idx] = solver.random_positions(rng)
+                    model.enforce_mimic(q)
+                attempts += 1
+                call_attempts += 1
+                # one descent from q, never cut short by the clock (its result must not depend on speed)
+                solved = solver.solve(link_target, q, timeout=math.inf, random_restarts=False)
+                if not solved:
+                    continue
+                q = solved[0]
+                if any(solver.group_distance(q, r) < min_distance for r in recorded):
+                    continue  # the same solution again: not recorded
+                recorded.append(q)
+                succeeded = self._spawn_candidate(s, q, jmg, ignore_collisions, constraint_set, solver, reference,
+                                                  markers)
+                if succeeded:
+                    break
+            if not succeeded and (max_solutions == 1 or not recorded or time.perf_counter() >= deadline):
+                # MTC stops after a failed call when one solution is wanted; beyond MTC, a call
+                # whose descents all missed means the target is out of reach (the remaining
+                # budgets would fail as well: for the demo's grasp angles the arm cannot take),
+                # while a reachable target converges within a few descents (the demo's: 16)
                 break
-            if not recorded and attempts >= attempts_per_solution:
-                # the budget of the first solution is spent without any descent converging: the
-                # target is out of reach (for the demo's grasp angles that the arm cannot take,
-                # the remaining (max_ik_solutions - 1) budgets would all fail as well); a
-                # reachable target converges within a few descents (the demo's: within 16)
-                break
-            q = start_q.copy()
-            if attempts > 0:
-                q[idx] = solver.random_positions(rng)
-                model.enforce_mimic(q)
-            attempts += 1
-            # one descent from q, never cut short by the clock (its result must not depend on speed)
-            solved = solver.solve(link_target, q, timeout=math.inf, random_restarts=False)
-            if not solved:
-                continue
-            q = solved[0]
-            if any(solver.group_distance(q, r) < min_distance for r in recorded):
-                continue  # the same solution again: not recorded
-            recorded.append(q)
-            new_scene = s.start.scene.diff()
-            new_scene.current_state.positions = q
-            state = new_scene.current_state
-            solution = SubTrajectory(None, 0.0, s.comment)
-            solution.markers.extend(markers)
-            if not ignore_collisions and new_scene.is_state_colliding(state, jmg.name):
-                pairs = new_scene.get_collisions(state, jmg.name)
-                solution.cost = math.inf
-                solution.comment = _join(s.comment, f"Collision between {format_collision_pairs(pairs)}")
-            elif constraint_set is not None and not constraint_set.satisfied(state, new_scene):
-                solution.cost = math.inf
-                solution.comment = _join(s.comment, "Constraints violated")
-            else:
-                solution.cost = s.cost + solver.group_distance(q, reference)
-                found += 1
-            new_state = InterfaceState(new_scene)
-            self.forwardProperties(s.start, new_state)
-            self.spawn(new_state, solution)
 
         # 8. nothing at all
         if not recorded:
-            self._fail(s, _join(s.comment, "no IK found"), markers=markers)
+            self._fail(s, f"{s.comment} no IK found", markers=markers)
+
+    def _spawn_candidate(self, s: SolutionBase, q: np.ndarray, jmg, ignore_collisions: bool, constraint_set,
+                         solver, reference: np.ndarray, markers) -> bool:
+        """Spawn a recorded IK candidate (a failure if it collides or violates the
+        constraints, with MTC's comments); True if it is valid."""
+        new_scene = s.start.scene.diff()
+        new_scene.current_state.positions = q
+        state = new_scene.current_state
+        solution = SubTrajectory(None, 0.0, s.comment)
+        solution.markers.extend(markers)
+        valid = False
+        if not ignore_collisions and new_scene.is_state_colliding(state, jmg.name):
+            a, b = _first_pair(new_scene.get_collisions(state, jmg.name))
+            solution.markAsFailure(f"Collision between '{a}' and '{b}'")
+        elif constraint_set is not None and not constraint_set.satisfied(state, new_scene):
+            solution.markAsFailure("Constraints violated")
+        else:
+            solution.cost = s.cost + solver.group_distance(q, reference)
+            valid = True
+        new_state = InterfaceState(new_scene)
+        self.forwardProperties(s.start, new_state)
+        self.spawn(new_state, solution)
+        return valid
