@@ -48,6 +48,7 @@ __all__ = [
     "is_joint_goal",
     "check_direction",
     "joint_deltas",
+    "first_collision_pair",
     "format_collision_pairs",
     "frame_marker",
     "arrow_marker",
@@ -390,6 +391,13 @@ def joint_deltas(direction: dict, robot_model, group: str) -> dict[str, float]:
 
 
 # ------------------------------------------------------------------------------ comments
+def first_collision_pair(pairs: Iterable) -> tuple[str, str]:
+    """The one contact MTC names in a comment: MoveIt's collision requests keep one contact by
+    default, its two body names in alphabetical order; here the alphabetically first of the
+    colliding pairs, so the text does not depend on the broad phase's order."""
+    return min(tuple(sorted(p[:2])) for p in pairs)
+
+
 def format_collision_pairs(pairs: Iterable) -> str:
     """``"a - b, c - d"`` from ``(a, b, ...)`` tuples (as MTC's collision comments)."""
     return ", ".join(f"{p[0]} - {p[1]}" for p in pairs)

@@ -46,6 +46,7 @@ from mtc.core.stage import InitStageError, Stage
 from mtc.core.storage import InterfaceState, SolutionBase, SubTrajectory
 from mtc.stages._common import (
     FrameError,
+    first_collision_pair,
     format_collision_pairs,
     ik_frame_from_args,
     pose_stamped_from_args,
@@ -54,12 +55,6 @@ from mtc.stages._common import (
 from mtc.stages.generate_pose import SolutionQueue, frame_marker
 
 __all__ = ["ComputeIK"]
-
-
-def _first_pair(pairs) -> tuple[str, str]:
-    """The one contact MTC reports (MoveIt's requests keep one contact, its two body names in
-    alphabetical order): here the alphabetically first colliding pair, for determinism."""
-    return min(tuple(sorted(p[:2])) for p in pairs)
 
 
 def _inverse(T: np.ndarray) -> np.ndarray:
@@ -280,7 +275,7 @@ class ComputeIK(WrapperBase):
             pairs = eef_collisions(scene, link, link_target)
             if pairs:
                 # (MTC's text: the upstream comment, then " eef in collision: a - b")
-                self._fail(s, f"{s.comment} eef in collision: {format_collision_pairs([_first_pair(pairs)])}",
+                self._fail(s, f"{s.comment} eef in collision: {format_collision_pairs([first_collision_pair(pairs)])}",
                            markers=markers)
                 return
 
@@ -375,7 +370,7 @@ class ComputeIK(WrapperBase):
         solution.markers.extend(markers)
         valid = False
         if not ignore_collisions and new_scene.is_state_colliding(state, jmg.name):
-            a, b = _first_pair(new_scene.get_collisions(state, jmg.name))
+            a, b = first_collision_pair(new_scene.get_collisions(state, jmg.name))
             solution.markAsFailure(f"Collision between '{a}' and '{b}'")
         elif constraint_set is not None and not constraint_set.satisfied(state, new_scene):
             solution.markAsFailure("Constraints violated")

@@ -8,12 +8,16 @@ as no correction exceeds ``max_penetration``.
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from mtc import msgs
 from mtc.core.cost_terms import Constant
 from mtc.core.stage import InitStageError, PropagatingEitherWay
 from mtc.core.storage import InterfaceState, SubTrajectory
+
+log = logging.getLogger(__name__)
 
 __all__ = ["FixCollisionObjects"]
 
@@ -76,10 +80,9 @@ class FixCollisionObjects(PropagatingEitherWay):
             # as MTC's checkRobotCollision: the robot (with attached objects) against the world
             contacts = [c for c in scene.get_contacts(max_contacts=100) if c[0] in world or c[1] in world]
             if not contacts:
-                if moved:
-                    result.comment = "moved " + ", ".join(
-                        f"'{name}' by ({v[0]:.4g}, {v[1]:.4g}, {v[2]:.4g})" for name, v in moved.items()
-                    )
+                if moved:  # (MTC comments neither success nor failure: the details are logged)
+                    log.info("%s: moved %s", self.name, ", ".join(
+                        f"'{name}' by ({v[0]:.4g}, {v[1]:.4g}, {v[2]:.4g})" for name, v in moved.items()))
                 return result
             moved_now = set()
             for body_a, body_b, points in contacts:
@@ -91,10 +94,9 @@ class FixCollisionObjects(PropagatingEitherWay):
                 correction = _correction(body_a in world, points)
                 depth = float(np.linalg.norm(correction))
                 if depth > max_penetration:
-                    result.markAsFailure(
-                        f"cannot fix collision between {body_a} and {body_b}: correction {depth:.4g} m "
-                        f"exceeds max_penetration {max_penetration:.4g} m"
-                    )
+                    log.info("%s: cannot fix collision between %s and %s: correction %.4g m exceeds "
+                             "max_penetration %.4g m", self.name, body_a, body_b, depth, max_penetration)
+                    result.markAsFailure()
                     return result
                 if direction is not None:  # an explicit direction replaces the contact normals
                     correction = np.array([direction.x, direction.y, direction.z], dtype=float)
@@ -110,7 +112,8 @@ class FixCollisionObjects(PropagatingEitherWay):
                     )
                 )
                 moved[name] = moved.get(name, np.zeros(3)) + correction
-        result.markAsFailure(f"collisions remain after {_MAX_ROUNDS} corrections")
+        log.info("%s: collisions remain after %d corrections", self.name, _MAX_ROUNDS)
+        result.markAsFailure()
         return result
 
 

@@ -5,11 +5,15 @@ MTC's ``stages/fixed_state.h`` (semantics §2.2).
 
 from __future__ import annotations
 
+import logging
+
 from mtc.core.cost_terms import Constant
 from mtc.core.stage import Generator, InitStageError
 from mtc.core.storage import InterfaceState, SubTrajectory
 from mtc.scene.planning_scene import PlanningScene
 from mtc.stages._common import format_collision_pairs
+
+log = logging.getLogger(__name__)
 
 __all__ = ["FixedState"]
 
@@ -63,6 +67,8 @@ class FixedState(Generator):
         if not self.properties.get("ignore_collisions"):
             pairs = self._scene.get_collisions()
             if pairs:
-                self.spawn(InterfaceState(self._scene), SubTrajectory.failure(f"in collision: {format_collision_pairs(pairs)}"))
+                # (MTC's comment is just "in collision"; the pairs go to the log)
+                log.info("%s: in collision: %s", self.name, format_collision_pairs(pairs))
+                self.spawn(InterfaceState(self._scene), SubTrajectory.failure("in collision"))
                 return
         self.spawn(InterfaceState(self._scene), 0.0)

@@ -14,7 +14,7 @@ from mtc import msgs
 from mtc.core.cost_terms import Constant
 from mtc.core.stage import PropagatingEitherWay
 from mtc.core.storage import InterfaceState, SubTrajectory
-from mtc.stages._common import format_collision_pairs
+from mtc.stages._common import first_collision_pair, format_collision_pairs
 
 __all__ = ["ModifyPlanningScene"]
 
@@ -168,10 +168,10 @@ class ModifyPlanningScene(PropagatingEitherWay):
                 self._callback(scene, self.properties)
             pairs = scene.get_collisions()
             if pairs:
-                # as MTC: the first contact names the failure
-                solution.markAsFailure(f"{pairs[0][0]} colliding with {pairs[0][1]}")
-                if len(pairs) > 1:
-                    solution.comment += f" (all colliding pairs: {format_collision_pairs(pairs)})"
+                # as MTC: one contact names the failure (all pairs go to the log)
+                a, b = first_collision_pair(pairs)
+                solution.markAsFailure(f"{a} colliding with {b}")
+                log.info("%s: colliding pairs: %s", self.name, format_collision_pairs(pairs))
         except KeyError as e:  # unknown object/link: the message is the first argument
             solution.markAsFailure(str(e.args[0]) if e.args else repr(e))
         except Exception as e:  # any failure to apply is a failure of this solution
@@ -193,9 +193,15 @@ class ModifyPlanningScene(PropagatingEitherWay):
     def _attachObjects(scene, names: list[str], link: str, attach: bool) -> None:
         op = msgs.CollisionObject.ADD if attach else msgs.CollisionObject.REMOVE
         for name in names:
-            scene.apply_attached_collision_object(
-                msgs.AttachedCollisionObject(link_name=link, object=msgs.CollisionObject(id=name, operation=op))
-            )
+            try:
+                scene.apply_attached_collision_object(
+                    msgs.AttachedCollisionObject(link_name=link, object=msgs.CollisionObject(id=name, operation=op))
+                )
+            except KeyError as e:
+                # as MTC, which ignores MoveIt's result here: an unknown object or link, or
+                # detaching an object that is not attached, is logged and skipped
+                log.error("cannot %s object '%s' %s link '%s': %s", "attach" if attach else "detach", name,
+                          "to" if attach else "from", link, e.args[0] if e.args else e)
 
     @staticmethod
     def _allowCollisions(scene, first: list[str], second, allow: bool) -> None:
