@@ -187,3 +187,22 @@ def test_whole_robot_set_up_serves_a_group_only_when_nothing_collides(scene):
     assert scene.is_state_colliding() and not scene.is_state_colliding(group=ARM)
     checker = scene.motion_checker(ARM, q)
     assert checker is scene.motion_checker(ARM) and checker.free(q)
+
+
+def test_margin_table_agrees_with_the_direct_sums(scene):
+    """The one-product table of pair margins gives what the per-geometry sums give (the way
+    scenes with many geometries compute them), for full and for group motions."""
+    checker = scene.motion_checker(ARM)
+    assert checker._combined is not None
+    rng = np.random.default_rng(5)
+    columns = np.arange(7)
+    for _ in range(10):
+        dq = rng.normal(size=scene.robot_model.variable_count)
+        table = (checker.margins(dq), checker.margins(dq[:7], columns))
+        saved, checker._combined = checker._combined, None
+        try:
+            direct = (checker.margins(dq), checker.margins(dq[:7], columns))
+        finally:
+            checker._combined = saved
+        for a, b in zip(table, direct):
+            np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)

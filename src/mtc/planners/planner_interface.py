@@ -142,13 +142,13 @@ class PathValidity:
     def collision_free(self, q: np.ndarray) -> bool:
         return bool(self._collision_free(q))
 
-    def motion_free(self, qa: np.ndarray, qb: np.ndarray) -> bool:
-        """Whether the straight joint-space motion between two collision-free states (full
-        variable vectors) is collision-free at every state on it, not only at samples
-        (:meth:`~mtc.scene.planning_scene.MotionChecker.motion_free`; the OMPL pipeline
-        proves its paths the same way). Continuous joints move the short way round. Robots
-        with joints that have no motion bound are checked every
-        :data:`MOTION_FALLBACK_STEP` instead."""
+    def motion_free(self, qa: np.ndarray, qb: np.ndarray, segments: int = 1) -> bool:
+        """Whether the straight joint-space motion between two states (full variable vectors)
+        is collision-free at every state on it, its ends included, not only at samples
+        (:meth:`~mtc.scene.planning_scene.MotionChecker.motion_free`, starting from
+        ``segments`` equal pieces; the OMPL pipeline proves its paths the same way).
+        Continuous joints move the short way round. Robots with joints that have no motion
+        bound are checked every :data:`MOTION_FALLBACK_STEP` instead."""
         if self._motion is None:
             self._motion = self.scene.motion_checker(self.group)
         model = self.scene.robot_model
@@ -158,9 +158,9 @@ class PathValidity:
         if cont.any():
             delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
         if self._motion.certifiable:
-            return self._motion.motion_free(qa, qa + delta)[0]
+            return self._motion.motion_free(qa, qa + delta, max(1, int(segments)))[0]
         n = max(1, math.ceil(float(np.abs(delta).max(initial=0.0)) / MOTION_FALLBACK_STEP))
-        return all(self._motion.free(qa + (k / n) * delta) for k in range(1, n))
+        return all(self._motion.free(qa + (k / n) * delta) for k in range(n + 1))
 
     def constraints_satisfied(self, q: np.ndarray) -> bool:
         if self._constraints is None:

@@ -464,6 +464,11 @@ class _CollisionEnv:
         return gd
 
 
+#: Scenes with up to this many collision geometries get :class:`MotionChecker`'s one-product
+#: table of pair margins (geometries² x variables floats).
+_COMBINED_GEOMETRIES = 200
+
+
 class MotionChecker:
     """Collision checks of one group's states, and of states with a clearance: the basis of
     continuous (not only sampled) collision checking of straight joint-space motions.
@@ -490,7 +495,21 @@ class MotionChecker:
         self._gd, self._manager = env.checker(group)
         self._zero = np.zeros((self._gm.ngeoms, self._gm.ngeoms))
         self._bounds, self._movable, self._pair_bounds = env.motion_model()
-        self._block = np.ix_(self._movable, self._movable)
+        m = len(self._movable)
+        # the movable geometries are usually the first ones (the robot's): a slice is cheaper
+        if m and np.array_equal(self._movable, np.arange(m)):
+            self._block = (slice(0, m), slice(0, m))
+        else:
+            self._block = np.ix_(self._movable, self._movable)
+        # margins(dq) = (combined @ |dq|) reshaped: one product per motion (for scenes of up
+        # to _COMBINED_GEOMETRIES geometries; the table grows with their square)
+        ng = self._gm.ngeoms
+        self._combined = None
+        if ng <= _COMBINED_GEOMETRIES:
+            combined = self._bounds[:, None, :] + self._bounds[None, :, :]
+            combined[self._block] = self._pair_bounds
+            self._combined = np.ascontiguousarray(combined.reshape(ng * ng, self._bounds.shape[1]))
+        self._mids: dict[int, np.ndarray] = {}
         self.certifiable = bool(np.all(np.isfinite(self._bounds)))
         self._compute = pin.computeCollisions
 
@@ -509,8 +528,12 @@ class MotionChecker:
         """Per pair of geometries (a geometries x geometries matrix), a bound on how much
         closer the two can get along the motion ``dq`` (as in :meth:`rates`) [m]."""
         dq = np.abs(dq)
+        if self._combined is not None:
+            combined = self._combined if columns is None else self._combined[:, columns]
+            n = self._gm.ngeoms
+            return (combined @ dq).reshape(n, n)
         rates = self.rates(dq, columns)
-        out = rates[:, None] + rates[None, :]
+        out = np.add.outer(rates, rates)
         pair = self._pair_bounds if columns is None else self._pair_bounds[:, :, columns]
         out[self._block] = pair @ dq
         return out
@@ -529,10 +552,12 @@ class MotionChecker:
     def motion_free(self, qa: np.ndarray, qb: np.ndarray, n: int = 1, min_margin: float = 1e-6,
                     free_check: float = 1e-2) -> tuple[bool, int]:
         """Whether every state of the straight motion from ``qa`` to ``qb`` (full variable
-        vectors) is collision-free, given that the states ``qa + j/n (qb - qa)``, j = 0..n,
-        are (they are not checked again). Continuous, not sampled: holds at any resolution.
+        vectors), its ends included, is collision-free. Continuous, not sampled: holds at any
+        resolution.
 
-        Every interval between those states is covered by a ball around its middle state:
+        The motion is cut into ``n`` equal intervals (callers pass the pieces between states
+        they have checked already: those pieces are the ones that tend to be proven whole).
+        Every interval is covered by a ball around its middle state:
         if that state is clear of every pair by more than the two can close in within half
         the interval, no state of the interval collides. Uncovered intervals are halved, level
         by level (one set of margins per level); once their bodies move less than
@@ -555,7 +580,11 @@ class MotionChecker:
         checks = 0
         if largest <= 0.0:
             return True, 0  # nothing that can collide moves
-        mids = (np.arange(n) + 0.5) / n
+        mids = self._mids.get(n)
+        if mids is None:
+            mids = (np.arange(n) + 0.5) / n
+            if len(self._mids) < 1024:
+                self._mids[n] = mids
         half = 0.5 / n
         while len(mids):
             Q = qa + mids[:, None] * d
