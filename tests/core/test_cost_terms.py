@@ -337,7 +337,7 @@ def test_clearance_on_the_panda():
     d = scene.distance_to_collision()
     assert 0 < d < 1
     assert cost == pytest.approx(1.0 / (d + 1e-5))
-    assert comment.startswith(f"Clearance: distance {d:g} between '") and "'box'" in comment
+    assert comment.startswith(f"Clearance: distance {d!r} between '") and "'box'" in comment
     cost, comment = core.Clearance(cumulative=True)(sol)
     assert comment.startswith("Clearance: cumulative distance")
 

@@ -272,7 +272,8 @@ def test_pose_goal_in_another_frame(make_task, start_scene, move):
         (lambda m: (m.setProperty("group", "hand"), m.setGoal(msgs.PoseStamped())), "missing ik_frame"),
         (lambda m: (m.setIKFrame("nowhere"), m.setGoal(msgs.PoseStamped())),
          "ik_frame specified in unknown frame 'nowhere'"),
-        (lambda m: (m.setIKFrame("world"), m.setGoal(msgs.PoseStamped())), "ik_frame doesn't specify a link frame"),
+        (lambda m: (m.setProperty("group", "hand"), m.setIKFrame("world"), m.setGoal(msgs.PoseStamped())),
+         "ik_frame doesn't specify a link frame"),
         (lambda m: m.setProperty("goal", 42), "invalid goal type: int"),
         (lambda m: m.setGoal(msgs.PoseStamped(header=msgs.Header(frame_id="mars"))), "unknown frame of goal pose: 'mars'"),
     ],
@@ -286,13 +287,30 @@ def test_failure_comments(make_task, start_scene, move, configure, message):
     assert move.failures[0].comment == message
 
 
-def test_world_object_is_not_an_ik_frame(make_task, start_scene, move, box):
-    """A world object cannot be the IK frame: it does not move with the robot."""
+def test_frames_not_on_the_robot_are_taken_on_the_group_tip(make_task, start_scene, move, box):
+    """As MTC's getRobotTipForFrame: an ik_frame in a world object's frame (or an empty frame_id:
+    relative to the tip) is that pose where it is now, carried along by the group's tip."""
     start_scene.apply_collision_object(box("crate", (0.6, 0.4, 0.8)))
-    move.setIKFrame("crate")
-    move.setGoal(msgs.PoseStamped())
-    assert not make_task(stages.FixedState("start", start_scene), move).plan()
-    assert move.failures[0].comment == "ik_frame doesn't specify a link frame"
+    tip0 = start_scene.current_state.get_global_link_transform("panda_link8")
+    crate = start_scene.get_frame_transform("crate")
+    goal = tip0.copy()
+    goal[2, 3] -= 0.05  # the tip 5 cm lower: so is any frame carried along by it
+    cases = {
+        "crate": (msgs.PoseStamped(header=msgs.Header(frame_id="crate"), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))),
+                  crate),
+        "": (msgs.PoseStamped(pose=msgs.Pose(position=msgs.Point(z=0.1), orientation=msgs.Quaternion(w=1.0))),
+             tip0 @ msgs.pose_to_matrix(msgs.Pose(position=msgs.Point(z=0.1), orientation=msgs.Quaternion(w=1.0)))),
+    }
+    for frame, (ik_frame, ik_pose) in cases.items():
+        m = stages.MoveTo(f"move {frame or 'tip'}", core.JointInterpolationPlanner())
+        m.group = "panda_arm"
+        m.ik_frame = ik_frame
+        target = goal @ np.linalg.solve(tip0, ik_pose)  # where the ik frame is when the tip is at goal
+        m.setGoal(msgs.PoseStamped(header=msgs.Header(frame_id="world"), pose=msgs.matrix_to_pose(target)))
+        task = make_task(stages.FixedState("start", start_scene), m)
+        assert task.plan(), (frame, [f.comment for f in m.failures])
+        reached = m.solutions[0].end.scene.current_state.get_global_link_transform("panda_link8")
+        np.testing.assert_allclose(reached[:3, 3], goal[:3, 3], atol=1e-4)
 
 
 # ------------------------------------------------------------------------------ directions

@@ -299,6 +299,13 @@ class LinkRotation(TrajectoryCostTerm):
         return total
 
 
+def _fmt_double(x: float) -> str:
+    """A double as C++'s ``fmt::format("{}", x)`` prints it: the shortest text that reads back
+    as the same number (Python's repr), without repr's ".0" on integral values."""
+    text = repr(float(x))
+    return text[:-2] if text.endswith(".0") else text
+
+
 class Clearance(TrajectoryCostTerm):
     """Cost from the distance to collision: ``1 / (d + 1e-5)``.
 
@@ -357,9 +364,9 @@ class Clearance(TrajectoryCostTerm):
             if d < 0:
                 return INF, f"Clearance: allegedly valid solution collides between '{a}' and '{b}'"
             if self.cumulative:
-                comment = f"Clearance: cumulative distance {d:g}"
+                comment = f"Clearance: cumulative distance {_fmt_double(d)}"
             else:
-                comment = f"Clearance: distance {d:g} between '{a}' and '{b}'"
+                comment = f"Clearance: distance {_fmt_double(d)} between '{a}' and '{b}'"
             return self.distance_to_cost(d), comment
         scene = solution.start.scene
         group = self._group(solution, solution.start)
@@ -372,4 +379,4 @@ class Clearance(TrajectoryCostTerm):
             total += d
         d = total / len(wps)
         kind = "average cumulative" if self.cumulative else "average"
-        return self.distance_to_cost(d), f"Clearance: {kind} distance: {d:g}"
+        return self.distance_to_cost(d), f"Clearance: {kind} distance: {_fmt_double(d)}"

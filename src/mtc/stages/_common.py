@@ -223,23 +223,36 @@ def resolve_ik_frame(scene, ik_frame: msgs.PoseStamped | None, group=None) -> IK
         ik_frame: The ``ik_frame`` property (None: undefined).
         group: ``JointModelGroup`` used when ``ik_frame`` is None: its only end-effector tip.
 
+    A frame that is not fixed to the robot (an empty ``frame_id``, the planning frame, a world
+    object) is taken, as in MTC, on the group's end-effector tip: the ik frame is the pose in
+    that frame (an empty ``frame_id``: relative to the tip), carried along by the tip.
+
     Raises:
         MissingIKFrameError: No ``ik_frame`` and no unique tip in ``group``.
-        UnknownFrameError, NotALinkFrameError: As :func:`resolve_frame`.
+        UnknownFrameError: As :func:`resolve_frame` (a non-empty unknown frame).
+        NotALinkFrameError: The frame is not fixed to the robot and ``group`` has no unique tip.
         TypeError: ``ik_frame`` is not a ``PoseStamped``.
     """
     state = scene.current_state
+    tips = list(getattr(group, "end_effector_tips", []) or [])
+    tip = tips[0] if len(tips) == 1 else None
     if ik_frame is None:
-        tips = list(getattr(group, "end_effector_tips", []) or [])
-        if len(tips) != 1:
+        if tip is None:
             raise MissingIKFrameError(getattr(group, "name", ""))
-        link = tips[0]
-        return IKFrame(link, np.eye(4), state.get_global_link_transform(link))
+        return IKFrame(tip, np.eye(4), state.get_global_link_transform(tip))
     if not isinstance(ik_frame, msgs.PoseStamped):
         raise TypeError(f"ik_frame must be a PoseStamped, not {type_name(ik_frame)}")
     frame = ik_frame.header.frame_id
-    link, frame_offset = resolve_frame(scene, frame)
-    offset = frame_offset @ msgs.pose_to_matrix(ik_frame.pose)
+    pose = msgs.pose_to_matrix(ik_frame.pose)
+    try:
+        link, frame_offset = resolve_frame(scene, frame)
+    except NotALinkFrameError:
+        if tip is None:
+            raise
+        tip_pose = state.get_global_link_transform(tip)
+        ik_pose = (tip_pose if not frame else frame_pose(scene, frame)) @ pose
+        return IKFrame(tip, np.linalg.solve(tip_pose, ik_pose), ik_pose)
+    offset = frame_offset @ pose
     return IKFrame(link, offset, state.get_global_link_transform(link) @ offset)
 
 

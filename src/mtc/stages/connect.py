@@ -191,7 +191,7 @@ class Connect(Connecting):
                 success, result = False, None
             trajectories.append(trajectory)
             if not success:
-                comment = planner_message(result) or f"planning failed for group '{group}'"
+                comment = planner_message(result)  # (MTC's comment: the planner's message, maybe empty)
                 break
             if trajectory.waypoints[-1].distance(goal_state, group) > max_distance:
                 success = False

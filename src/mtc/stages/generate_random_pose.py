@@ -87,9 +87,13 @@ class GenerateRandomPose(GeneratePose):
         self._samplers: list[tuple[PoseDimension, Callable[[np.random.Generator], float]]] = []
         self._consumed = 0
 
-    def set_max_solutions(self, max_solutions: int) -> None:
-        """Set ``max_solutions`` (MTC's Python name)."""
+    def setMaxSolutions(self, max_solutions: int) -> None:
+        """Set ``max_solutions`` (MTC's C++ setter)."""
         self.properties.set("max_solutions", max_solutions)
+
+    def set_max_solutions(self, max_solutions: int) -> None:
+        """Set ``max_solutions`` (MTC's Python binding's name)."""
+        self.setMaxSolutions(max_solutions)
 
     def sample_dimension(self, dimension, width, distribution: str = "uniform") -> None:
         """Sample one dimension of the pose (MTC's ``sampleDimension``; Python name as MTC's binding).

@@ -8,6 +8,7 @@ reversed, so the new start state lies the given motion *before* the end state.
 
 from __future__ import annotations
 
+import logging
 
 import numpy as np
 
@@ -24,6 +25,8 @@ from mtc.stages._common import (
     type_name,
 )
 from mtc.stages._planner_stage import PlannerStage, planner_message
+
+log = logging.getLogger(__name__)
 
 __all__ = ["MoveRelative"]
 
@@ -209,9 +212,10 @@ class MoveRelative(PlannerStage):
                             solution.markers.append(arrow_marker(ns, "missing", got, wanted, "red", frame_id))
 
         if trajectory is None or len(trajectory) == 0:
-            # nothing to show: a failure with the planner's reason (silent if it gave none)
+            # nothing to show: as MTC, a silent failure (counted, neither stored nor passed on,
+            # so nothing is pruned); the planner's reason goes to the log
             if comment:
-                solution.markAsFailure(comment)
+                log.info("%s: %s", self.name, comment)
             return False, scene, solution
         scene.current_state = trajectory.waypoints[-1]
         if backward:

@@ -7,6 +7,8 @@ state is the goal.
 
 from __future__ import annotations
 
+import logging
+
 import numpy as np
 
 from mtc import msgs
@@ -26,6 +28,8 @@ from mtc.stages._common import (
 )
 
 from mtc.stages._planner_stage import PlannerStage, planner_message, synthesized_trajectory
+
+log = logging.getLogger(__name__)
 
 __all__ = ["MoveTo"]
 
@@ -127,13 +131,15 @@ class MoveTo(PlannerStage):
             # show where it should have gone
             trajectory = synthesized_trajectory(scene.robot_model, group, state.scene.current_state, scene.current_state)
         if trajectory is None or len(trajectory) == 0:
-            # nothing to show: a failure with the planner's reason (silent if it gave none)
-            message = "" if success else planner_message(result)
-            return False, scene, SubTrajectory.failure(message) if message else SubTrajectory()
+            # nothing to show (failures are not stored): as MTC, a silent failure, counted but
+            # neither stored nor passed on (no pruning); the planner's reason goes to the log
+            if not success:
+                log.info("%s: %s", self.name, planner_message(result) or "planning failed")
+            return False, scene, SubTrajectory()
         scene.current_state = trajectory.waypoints[-1]
         if direction == Interface.BACKWARD:
             trajectory.reverse()
         solution = SubTrajectory(trajectory)
         if not success:
-            solution.markAsFailure(planner_message(result) or "planning failed")
+            solution.markAsFailure(planner_message(result))  # (MTC's comment: the planner's message)
         return True, scene, solution
