@@ -94,6 +94,12 @@ def test_edges_are_proven_between_their_sampled_states(panda, add_box, ready_sce
     assert n == 2 and scene.check_states(samples, ARM).all()  # the sampled states miss the cube
     assert not checker.edge_ok_fine(a, b)
     assert checker.certify_checks > 0
+    # the straight line's check (no state of it checked before) finds it too
+    direct = op._EdgeChecker(scene, group, base, None, resolution=1.2, ratio=1)
+    assert not direct.edge_ok_direct(a, b)
+    free_end = a.copy()
+    free_end[0] = -0.55
+    assert direct.edge_ok_direct(a, free_end) and direct.edge_ok_fine(a, free_end)
 
 
 def test_joint_interpolation_checks_between_its_waypoints(panda, add_box, ready_scene):

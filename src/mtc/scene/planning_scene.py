@@ -550,7 +550,7 @@ class MotionChecker:
             gd.setSecurityMargins(gm, self._zero, True, True)
 
     def motion_free(self, qa: np.ndarray, qb: np.ndarray, n: int = 1, min_margin: float = 1e-6,
-                    free_check: float = 1e-2) -> tuple[bool, int]:
+                    free_check: float = 1e-2, intervals=None) -> tuple[bool, int]:
         """Whether every state of the straight motion from ``qa`` to ``qb`` (full variable
         vectors), its ends included, is collision-free. Continuous, not sampled: holds at any
         resolution.
@@ -564,6 +564,10 @@ class MotionChecker:
         ``free_check`` [m] within them, the middle states are also checked for a collision
         (the motion fails), and below ``min_margin`` [m] the motion counts as colliding (it
         grazes an obstacle).
+
+        Args:
+            intervals: indices of the ``n`` intervals to prove (default: all; the others are
+                taken as proven).
 
         Returns:
             ``(free, states checked)``.
@@ -585,6 +589,8 @@ class MotionChecker:
             mids = (np.arange(n) + 0.5) / n
             if len(self._mids) < 1024:
                 self._mids[n] = mids
+        if intervals is not None:
+            mids = mids[np.asarray(intervals, dtype=int)]
         half = 0.5 / n
         while len(mids):
             Q = qa + mids[:, None] * d
