@@ -37,6 +37,18 @@ def _ik_task(make_task, pose, configure=None, introspection=True, **ik_props):
     return make_task(current, connect, ik, introspection=introspection), ik
 
 
+def _grasp_ik_task(make_task):
+    """CurrentState -> Connect -> ComputeIK(GenerateGraspPose) for eef ``hand`` around the world
+    object ``object``, one grasp per half turn (comments ``3.141593`` and ``6.283185``)."""
+    current = stages.CurrentState("current")
+    g = stages.GenerateGraspPose("grasp")
+    g.eef, g.object, g.pregrasp, g.angle_delta = "hand", "object", "open", math.pi
+    g.setMonitoredStage(current)
+    ik = stages.ComputeIK("ik", g)
+    ik.eef = "hand"
+    return make_task(current, stages.Connect("c", [("panda_arm", core.JointInterpolationPlanner())]), ik), ik
+
+
 def _frame(solution, frame):
     return solution.end.scene.get_frame_transform(frame)
 
@@ -202,13 +214,7 @@ def test_eef_in_collision(make_task, box):
 def test_eef_in_collision_comment_starts_with_the_upstream_comment(make_task, box):
     """The generator's comment (here GenerateGraspPose's angle) prefixes ComputeIK's failure comment."""
     mtc.current_scene().apply_collision_object(box("object", (0.5, 0.0, 0.4), size=(0.2, 0.2, 0.2)))
-    current = stages.CurrentState("current")
-    g = stages.GenerateGraspPose("grasp")
-    g.eef, g.object, g.pregrasp, g.angle_delta = "hand", "object", "open", math.pi
-    g.setMonitoredStage(current)
-    ik = stages.ComputeIK("ik", g)
-    ik.eef = "hand"
-    task = make_task(current, stages.Connect("c", [("panda_arm", core.JointInterpolationPlanner())]), ik)
+    task, ik = _grasp_ik_task(make_task)
     assert not task.plan()
     assert sorted(f.comment.split(" eef in collision: ")[0] for f in ik.failures) == ["3.141593", "6.283185"]
 

@@ -3,8 +3,9 @@
 tests/stages/test_move_relative.py covers the same scenarios with looser tolerances (1e-3 m);
 upstream checks every waypoint's position with Eigen's ``isApprox(start, 5e-5)``.
 cartesianRotateAttachedIKFrame and cartesianCollisionMinMaxDistance build their objects from
-messages without ``primitive_poses``, which mtc's scene rejects: they are in
-test_mtc_parity_pending.py.
+messages without ``primitive_poses``; as MoveIt
+(PlanningScene::shapesAndPosesFromCollisionObjectMessage), mtc takes the missing shape poses as
+identity.
 """
 
 from __future__ import annotations
@@ -59,6 +60,24 @@ def t(panda, scene, move):
     return t
 
 
+def create_object(id_, pose=None):
+    """test_move_relative.cpp's createObject: a 1 cm sphere in panda_hand's frame, NO primitive_poses."""
+    co = msgs.CollisionObject()
+    co.header.frame_id = "panda_hand"
+    co.operation = msgs.CollisionObject.ADD
+    co.id = id_
+    p = msgs.SolidPrimitive()
+    p.type = msgs.SolidPrimitive.SPHERE
+    p.dimensions = [0.01]
+    co.primitives = [p]
+    if pose is None:
+        pose = msgs.Pose()
+        pose.position.x = 0.1
+        pose.orientation.w = 1.0
+    co.pose = pose
+    return co
+
+
 def _world_twist(**angular):
     twist = msgs.TwistStamped()
     twist.header.frame_id = "world"
@@ -86,3 +105,50 @@ def test_cartesian_circular(t, move):
 
     assert t.plan(), "Failed to plan"
     expect_const_position(move.solutions[0], tip, offset)
+
+
+def test_cartesian_rotate_attached_ik_frame(t, scene, move):
+    """PandaMoveRelativeCartesian.cartesianRotateAttachedIKFrame.
+
+    The attached object's message has primitives but no primitive_poses: MoveIt
+    (PlanningScene::shapesAndPosesFromCollisionObjectMessage) assumes identity shape poses.
+    """
+    attached_object = "attached_object"
+    aco = msgs.AttachedCollisionObject()
+    aco.link_name = "panda_hand"
+    aco.object = create_object(attached_object)
+    scene.apply_attached_collision_object(aco)
+    move.setIKFrame(attached_object)
+
+    move.setDirection(_world_twist(z=TAU / 8.0))
+
+    assert t.plan(), "Failed to plan"
+    expect_const_position(move.solutions[0], attached_object)
+
+
+def test_cartesian_collision_min_max_distance(t, scene, move):
+    """PandaMoveRelative<CartesianPath>.cartesianCollisionMinMaxDistance.
+
+    The obstacle's message has no primitive_poses either (identity, as above).
+    """
+    obj = "object"
+    object_pose = msgs.Pose()
+    object_pose.position.z = 0.4
+    object_pose.orientation.w = 1.0
+
+    scene.apply_collision_object(create_object(obj, object_pose))
+
+    move.setIKFrame("panda_hand")
+    v = msgs.Vector3Stamped()
+    v.header.frame_id = "panda_hand"
+    v.vector.z = 0.5
+    move.setDirection(v)
+    assert not t.plan(), "Plan should fail due to collision"
+
+    t.reset()
+    v.vector.z = 1.0
+    move.setDirection(v)
+    move.setMinMaxDistance(0.1, 0.5)
+    assert t.plan(), "Plan should succeed due to min distance reached"
+    trajectory = move.solutions[0]
+    assert scene.is_path_valid(trajectory.trajectory, "panda_arm")

@@ -8,9 +8,9 @@ and ``setCircularArcConstraint({name, pose})`` to path constraints named ``cente
 holding the arc point (Pilz's own convention). ``invalidPlanner`` (``setPlanner("BLAH")``
 returning False) has no counterpart: planner ids are checked at init.
 
-poseIKFrameAttachedTarget / poseIKFrameAttachedSubframeTarget (their object has no
-``primitive_poses``) and poseTargetCIRCCenter (Pilz's 1 cm radius tolerance) fail on mtc: they
-are in test_mtc_parity_pending.py.
+poseIKFrameAttachedTarget / poseIKFrameAttachedSubframeTarget attach an object without
+``primitive_poses`` (MoveIt takes the missing shape poses as identity); poseTargetCIRCCenter
+rests on Pilz's 1 cm tolerance between the start and goal radii.
 """
 
 from __future__ import annotations
@@ -129,8 +129,26 @@ def test_pose_ik_frame_link_target(t, scene, move_to):
     expect_one_solution(t)
 
 
+def test_pose_ik_frame_attached_target(t, scene, move_to):
+    """PandaMoveTo.poseIKFrameAttachedTarget: the object has no primitive_poses (identity, as MoveIt)."""
+    attached_object = "attached_object"
+    scene.apply_attached_collision_object(create_attached_object(attached_object))
+
+    move_to.setIKFrame(attached_object)
+    move_to.setGoal(get_frame_pose_of_named_state(scene.current_state, "ready", attached_object))
+    expect_one_solution(t)
 
 
+def test_pose_ik_frame_attached_subframe_target(t, scene, move_to):
+    """PandaMoveTo.poseIKFrameAttachedSubframeTarget: the object has no primitive_poses (identity, as MoveIt)."""
+    attached_object = "attached_object"
+    ik_frame = attached_object + "/subframe"
+
+    scene.apply_attached_collision_object(create_attached_object(attached_object))
+
+    move_to.setIKFrame(ik_frame)
+    move_to.setGoal(get_frame_pose_of_named_state(scene.current_state, "ready", ik_frame))
+    expect_one_solution(t)
 
 
 # --- PandaMoveToPilz (test_move_to_pilz.cpp) -------------------------------------------------
@@ -146,6 +164,8 @@ def _pose(x, y, z, qx, qy, qz, qw):
 
 # 90 degree arc centered about the base
 TEST_GOAL_POSE = _pose(0.0, 0.3, 0.59, 0.7071, 0.7071, 0.0, 0.0)
+# The center of the base, at the initial height of the hand
+TEST_ARC_CENTER_POSE = _pose(0.0, 0.0, 0.59, 0.7071, -0.7071, 0.0, 0.0)
 # Midpoint selected halfway (45 degrees) along the arc.
 TEST_ARC_INTERIM_POSE = _pose(0.21708, 0.21708, 0.59, 0.9381665, 0.3461834, 0.0, 0.0)
 
@@ -210,6 +230,17 @@ def test_pilz_pose_target_lin(pt, solver, pilz_move_to):
     expect_one_solution(pt)
 
 
+def test_pilz_pose_target_circ_center(pt, solver, pilz_move_to):
+    """PandaMoveToPilz.poseTargetCIRCCenter: a 90 degree arc about the base's axis.
+
+    panda_hand starts 0.3070 m and ends 0.3000 m from the centre (7 mm apart): Pilz accepts
+    radii that differ by up to MAX_RADIUS_DIFF = 1e-2 m (path_circle_generator.h).
+    """
+    solver.planner = "CIRC"
+    pilz_move_to.setIKFrame("panda_hand")
+    pilz_move_to.setGoal(TEST_GOAL_POSE)
+    pilz_move_to.path_constraints = _arc_constraint("center", TEST_ARC_CENTER_POSE, "panda_hand")
+    expect_one_solution(pt)
 
 
 def test_pilz_pose_target_circ_interim(pt, solver, pilz_move_to):

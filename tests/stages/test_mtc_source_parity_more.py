@@ -7,10 +7,7 @@ from moveit/moveit_task_constructor, the newest stored version of each file).
 
 from __future__ import annotations
 
-import math
 import re
-import sys
-from pathlib import Path
 
 import pytest
 
@@ -20,30 +17,8 @@ from mtc.planners.cartesian_path import CartesianPath
 from mtc.planners.joint_interpolation import JointInterpolationPlanner
 from mtc.planners.planner_interface import PlannerInterface, PlannerResult
 
-sys.path.insert(0, str(Path(__file__).parent))
-
-TCP_OFFSET = 0.1034
-
-
-def _pose(frame="panda_link8", x=0.0, y=0.0, z=0.0, q=(0.0, 0.0, 0.0, 1.0)):
-    return msgs.PoseStamped(
-        header=msgs.Header(frame_id=frame),
-        pose=msgs.Pose(position=msgs.Point(x=x, y=y, z=z), orientation=msgs.Quaternion(x=q[0], y=q[1], z=q[2], w=q[3])),
-    )
-
-
-def _ik_task(make_task, pose, comment_generator=None, **ik_props):
-    """CurrentState -> Connect -> ComputeIK(GeneratePose(pose)) (the seed's compute_ik.py)."""
-    current = stages.CurrentState("current state")
-    connect = stages.Connect("connect", [("panda_arm", JointInterpolationPlanner())])
-    generator = stages.GeneratePose("cartesian pose")
-    generator.setMonitoredStage(current)
-    generator.pose = pose
-    ik = stages.ComputeIK("compute IK", generator)
-    ik.group = "panda_arm"
-    for k, v in ik_props.items():
-        setattr(ik, k, v)
-    return make_task(current, connect, ik), ik
+# the ComputeIK tests' task builders and pose helper
+from .test_compute_ik import TCP_OFFSET, _grasp_ik_task, _ik_task, _pose
 
 
 def _sphere_around_elbow(sphere):
@@ -94,19 +69,13 @@ def test_ik_constraints_violated_comment_is_prepended(make_task, box):
     (GenerateGraspPose's angle) and ``markAsFailure("Constraints violated")`` prepends:
     "Constraints violated\\n<angle>"."""
     mtc.current_scene().apply_collision_object(box("object", (0.4, 0.0, 0.3), size=(0.04, 0.04, 0.1)))
-    current = stages.CurrentState("current")
-    g = stages.GenerateGraspPose("grasp")
-    g.eef, g.object, g.pregrasp, g.angle_delta = "hand", "object", "open", math.pi
-    g.setMonitoredStage(current)
-    ik = stages.ComputeIK("ik", g)
-    ik.eef = "hand"
+    task, ik = _grasp_ik_task(make_task)
     ik.ik_frame = _pose("panda_hand", z=TCP_OFFSET)
     ik.ignore_collisions = True
     ik.max_ik_attempts = 3
     ik.constraints = msgs.Constraints(joint_constraints=[msgs.JointConstraint(
         joint_name="panda_joint1", position=2.5, tolerance_above=0.01, tolerance_below=0.01, weight=1.0)])
     ik.properties.configureInitFrom(core.Stage.PropertyInitializerSource.INTERFACE, ["target_pose"])
-    task = make_task(current, stages.Connect("c", [("panda_arm", JointInterpolationPlanner())]), ik)
     task.plan()
     violated = [f.comment for f in ik.failures if "Constraints violated" in f.comment]
     assert violated
