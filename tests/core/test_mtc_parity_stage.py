@@ -2,7 +2,7 @@
 the toy robot.
 
 (Stage.registerCallbacks is in tests/core/test_stage.py; Connect.compatible with upstream's exact
-sequence of scene edits is in test_mtc_parity_pending.py until the scene accepts it.)
+sequence of scene edits is in test_mtc_parity_scene_rules.py.)
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """MTC's capabilities/test/test_task_execution.cpp (ros2): successExecution.
 
-(preemptExecution - a preempt halfway through the trajectory's duration - is in
-test_mtc_parity_pending.py: mtc plays a solution at once, so there is no "halfway".)
+(preemptExecution - a preempt halfway through the trajectory's duration - is not ported: mtc
+plays a solution at once, so there is no "halfway"; docs/porting.md says so.)
 """
 
 from __future__ import annotations
