@@ -38,7 +38,8 @@ def test_defaults_and_typed_properties():
     with pytest.raises(TypeError):
         planner.max_step = "fast"
     with pytest.raises(ValueError, match=r"max_velocity_scaling_factor must be in \(0, 1\]"):
-        planner.max_velocity_scaling_factor = 0.0
+        planner.max_velocity_scaling_factor = 1.5
+    planner.max_velocity_scaling_factor = 0.0  # accepted: MoveIt's default (1.0)
     with pytest.raises(AttributeError):
         planner.properties = None
 

@@ -190,3 +190,59 @@ def test_pipeline_failure_returns_no_trajectory(ready_scene, add_box):
     result, traj = PipelinePlanner().plan(ready_scene, goal, ARM, 1.0)
     assert not result and result.message.startswith("GOAL_IN_COLLISION")
     assert traj is None
+
+
+# --- fixed after the audit: Pilz PTP's common limits and reached goal, scaling 0, Cartesian timeout
+def test_pilz_ptp_goal_already_reached_is_one_point(ready_scene):
+    """Pilz trajectory_generator_ptp.cpp, planPTP(): if no joint moves by MIN_MOVEMENT (0.001),
+    the trajectory is one point at the start positions, time_from_start = sampling_time
+    (0.1 s), at rest."""
+    planner = PipelinePlanner("pilz_industrial_motion_planner")
+    planner.planner = "PTP"
+    result, traj = planner.plan(ready_scene, ready_scene.diff(), ARM, 1.0)
+    assert result
+    assert len(traj) == 1
+    assert traj.duration == pytest.approx(0.1)
+
+
+def test_zero_scaling_factor_is_accepted_as_default():
+    """planner_interface.cpp declares the scaling factors as plain doubles (any value can be
+    set); time_optimal_trajectory_generation.cpp, computeTimeStamps(): 0.0 means 'default'
+    (1.0, debug log), as in MotionPlanRequest. Setting 0.0 must not raise."""
+    planner = JointInterpolationPlanner()
+    planner.max_velocity_scaling_factor = 0.0
+    planner.max_acceleration_scaling_factor = 0.0
+    assert planner.max_velocity_scaling_factor == 0.0
+
+
+def test_cartesian_path_ignores_the_timeout(ready_scene):
+    """cartesian_path.cpp, plan(from, link, offset, target, jmg, double /*timeout*/, ...): the
+    Cartesian plan takes no deadline (computeCartesianPath has none): a tiny timeout still
+    yields the full line (fraction 1.0), it does not cut the path short."""
+    T = ready_scene.current_state.get_global_link_transform("panda_link8").copy()
+    T[2, 3] -= 0.2
+    result, traj = CartesianPath().plan_to_pose(ready_scene, "panda_link8", np.eye(4), T, ARM, 1e-6)
+    assert result, result.message
+    assert result.message == "achieved fraction: 1.000000"
+
+
+def _pilz(planner_id: str) -> PipelinePlanner:
+    planner = PipelinePlanner("pilz_industrial_motion_planner")
+    planner.planner = planner_id
+    return planner
+
+
+def test_pilz_ptp_uses_the_groups_most_strict_limits(panda, ready_scene):
+    """Pilz trajectory_generator_ptp.cpp, TrajectoryGeneratorPTP ctor + planPTP(): every joint's
+    VelocityProfileATrap uses the group's *common* (most strict) limits
+    (``joint_limits_.getCommonLimit(jmg->getActiveJointModelNames())``; MoveIt's Pilz docs:
+    "the strictest combination of all limits as a common limit for all joints"). Moving only
+    panda_joint1 by 1 rad is therefore limited by the smallest arm acceleration (1.875,
+    panda_joint2's): triangular profile 2·sqrt(1 / 1.875) ~ 1.461 s, not joint1's own 1.033 s."""
+    idx = panda.get_joint_model_group(ARM).variable_indices
+    a_common = float(panda.acceleration_limits[idx].min())
+    v_common = float(panda.velocity_limits[idx].min())
+    assert v_common**2 / a_common > 1.0  # the profile is triangular
+    result, traj = _pilz("PTP").plan(ready_scene, _goal(ready_scene, 0, 1.0), ARM, 1.0)
+    assert result
+    assert traj.duration == pytest.approx(2 * math.sqrt(1.0 / a_common), rel=1e-3)

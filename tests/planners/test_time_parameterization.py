@@ -175,11 +175,17 @@ def test_totg_class(panda):
 
 
 def test_bad_arguments(panda):
-    """Scaling factors outside (0, 1] and a Cartesian limit without a link raise ValueError."""
+    """Scaling factors outside [0, 1] (0: the default, 1.0, as MoveIt takes it) and a Cartesian
+    limit without a link raise ValueError."""
     traj = _curved_path(panda, np.random.default_rng(8), n=5)
-    with pytest.raises(ValueError, match=r"max_velocity_scaling_factor must be in \(0, 1\], got 0"):
-        time_parameterize(traj, 0.0)
-    with pytest.raises(ValueError, match=r"max_acceleration_scaling_factor must be in \(0, 1\], got 1.5"):
+    with pytest.raises(ValueError, match=r"max_velocity_scaling_factor must be in \(0, 1\] \(0: the default, 1.0\), got -0.5"):
+        time_parameterize(traj, -0.5)
+    default = _curved_path(panda, np.random.default_rng(8), n=5)
+    time_parameterize(default, 0.0)
+    full = _curved_path(panda, np.random.default_rng(8), n=5)
+    time_parameterize(full, 1.0)
+    assert default.duration == pytest.approx(full.duration)
+    with pytest.raises(ValueError, match=r"max_acceleration_scaling_factor must be in \(0, 1\] \(0: the default, 1.0\), got 1.5"):
         time_parameterize(traj, 1.0, 1.5)
     with pytest.raises(ValueError, match="needs a cartesian_speed_limited_link"):
         time_parameterize(traj, max_cartesian_speed=0.2)

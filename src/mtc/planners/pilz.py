@@ -40,7 +40,12 @@ import pinocchio as pin
 from mtc import msgs
 from mtc.planners import ik
 from mtc.planners.planner_interface import PathValidity, PlannerResult, error_message
-from mtc.planners.time_parameterization import TrapezoidProfile, synchronized_ptp, time_parameterize
+from mtc.planners.time_parameterization import (
+    TrapezoidProfile,
+    check_scaling_factor,
+    synchronized_ptp,
+    time_parameterize,
+)
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
@@ -53,6 +58,7 @@ PIPELINE_NAME = "pilz_industrial_motion_planner"
 KNOWN_PLANNERS = ("PTP", "LIN", "CIRC")
 DEFAULT_PLANNER = "PTP"
 
+_GOAL_REACHED = 1e-3  # [rad] a PTP whose joints all move less than this is one point (as Pilz)
 _RADIUS_TOLERANCE = 1e-2  # [m] start and goal distance to a CIRC centre may differ this much (as Pilz)
 _COLINEAR = 1e-6
 
@@ -149,6 +155,9 @@ class PilzPipeline:
         group's end-effector tip has in ``goal``."""
         planner_id = self._check_planner(planner_id)
         jmg = self.robot_model.get_joint_model_group(group)
+        max_velocity_scaling_factor = check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
+        max_acceleration_scaling_factor = check_scaling_factor(
+            "max_acceleration_scaling_factor", max_acceleration_scaling_factor)
         if planner_id == "PTP":
             return self._run(
                 lambda: self._ptp(scene, start, goal, jmg, path_constraints, max_velocity_scaling_factor,
@@ -183,7 +192,8 @@ class PilzPipeline:
         planner_id = self._check_planner(planner_id)
         jmg = self.robot_model.get_joint_model_group(group)
         deadline = time.perf_counter() + (timeout if math.isfinite(timeout) else 1e9)
-        vs, acs = max_velocity_scaling_factor, max_acceleration_scaling_factor
+        vs = check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
+        acs = check_scaling_factor("max_acceleration_scaling_factor", max_acceleration_scaling_factor)
         target = np.asarray(target, dtype=float)
         offset = np.asarray(offset, dtype=float)
         if planner_id == "PTP":
@@ -297,8 +307,13 @@ class PilzPipeline:
         cont = model.continuous_mask[idx]
         if cont.any():  # continuous joints take the short way round
             delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
-        vmax = model.velocity_limits[idx] * vs
-        amax = model.acceleration_limits[idx] * acs
+        if float(np.abs(delta).max(initial=0.0)) < _GOAL_REACHED:
+            # as Pilz: the goal is reached already; one point, at the start, one sampling time in
+            Z = np.zeros(len(idx))
+            return PlannerResult(True, ""), self._trajectory(start, jmg, [start_q], [self.sampling_time], [Z], [Z])
+        # as Pilz: every joint gets the group's strictest velocity and acceleration limit
+        vmax = np.full(len(idx), float(np.min(model.velocity_limits[idx])) * vs)
+        amax = np.full(len(idx), float(np.min(model.acceleration_limits[idx])) * acs)
         duration, sample = synchronized_ptp(q0, q0 + delta, vmax, amax)
         steps = max(
             1,

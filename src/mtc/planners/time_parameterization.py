@@ -54,18 +54,19 @@ _DENSE_SPLINE = 200  # up to this many waypoints the spline system is solved den
 
 
 def check_scaling_factor(name: str, value: float) -> float:
-    """Validate a velocity/acceleration scaling factor.
+    """Validate a velocity/acceleration scaling factor; 0 means the default, 1.0 (as MoveIt's
+    time parameterization takes it).
 
     Raises:
-        ValueError: not a number in (0, 1].
+        ValueError: not a number in [0, 1].
     """
     try:
         v = float(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number in (0, 1], got {value!r}") from None
-    if not (0.0 < v <= 1.0):
-        raise ValueError(f"{name} must be in (0, 1], got {value!r}")
-    return v
+        raise ValueError(f"{name} must be a number in (0, 1] (0: the default, 1.0), got {value!r}") from None
+    if not (0.0 <= v <= 1.0):
+        raise ValueError(f"{name} must be in (0, 1] (0: the default, 1.0), got {value!r}")
+    return v if v > 0.0 else 1.0
 
 
 class TimeParameterization(ABC):
