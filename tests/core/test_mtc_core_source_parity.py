@@ -17,10 +17,12 @@ from mockups import (
     GeneratorMockup,
     add,
     costs,
+    make_task,
     new_scene,
+    toy_model,
 )
 
-from mtc import core
+from mtc import core, stages
 
 INF = math.inf
 
@@ -282,3 +284,134 @@ def test_perform_init_from_keeps_parent_value_over_interface():
     pm.performInitFrom(src.INTERFACE, iface)
     assert pm["a"] == "from parent"
     assert pm["b"] == "from interface"
+
+
+def _task(introspection: bool, **kwargs):
+    if not introspection:
+        return make_task(**kwargs)
+    t = core.Task(introspection=True, **kwargs)
+    t.setRobotModel(toy_model())
+    return t
+
+
+# --- explainFailure ----------------------------------------------------------------------------
+
+
+def test_explain_failure_continues_with_later_siblings():
+    """container.cpp (both lines) ContainerBase::explainFailure: after recursing into a child
+    without solutions and without failures of its own, the loop goes on with the next children
+    (only a child with failures ends it, ``break``). Two failing branches of an Alternatives root
+    are both listed."""
+    t = _task(False, container=core.Alternatives("alt"))
+    a = add(t, core.SerialContainer("a"))
+    add(a, GeneratorMockup([0.0]))
+    add(a, ForwardMockup([INF]))
+    b = add(t, core.SerialContainer("b"))
+    add(b, GeneratorMockup([0.0]))
+    add(b, ForwardMockup([INF]))
+    assert not t.plan()
+    out = io.StringIO()
+    t.explainFailure(out)
+    assert out.getvalue() == "Failing stage(s):\nFWD1 (0/1)\nFWD2 (0/1)\n"
+
+
+def test_explain_failure_of_a_failing_container_recurses_instead_of_quoting_its_failure():
+    """container.cpp ContainerBase::explainFailure prints "<name> (0/<n>)" and then calls the
+    child's (virtual) explainFailure: for a *container* child that is ContainerBase::explainFailure
+    over its own children, not Stage::explainFailure's ": <first failure comment>". A
+    PredicateFilter rejecting its generator's solution: the generator has solutions, so nothing
+    follows the count. (Conflicts with tests/stages/test_predicate_filter.py
+    test_comment_of_a_rejection, which expects ": <comment>".)"""
+    t = _task(True)
+    f = stages.PredicateFilter("filter", GeneratorMockup([0.0]))
+    f.setPredicate(lambda s: (False, "rejected"))
+    t.add(f)
+    assert not t.plan()
+    out = io.StringIO()
+    t.explainFailure(out)
+    assert out.getvalue() == "Failing stage(s):\nfilter (0/1)\n"
+
+
+# --- PropertyMap from Python -------------------------------------------------------------------
+
+
+def test_assigning_none_to_a_property_is_a_type_error():
+    """python/bindings/src/properties.cpp (commit 29d12196dad3df012dd772b33d1ca94f0cfd7cff)
+    PropertyConverterRegistry::fromPython: None is neither bool/int/float/str nor a ROS message,
+    so ``props[k] = None``, ``props.update({k: None})``, ``Property.setValue(None)`` and
+    ``setCurrentValue(None)`` raise TypeError ("No C++ conversion available for (property)
+    type: builtins.NoneType") and leave the value (and default) untouched."""
+    pm = core.PropertyMap()
+    pm["a"] = 1.5
+    with pytest.raises(TypeError):
+        pm["a"] = None
+    with pytest.raises(TypeError):
+        pm.update({"a": None})
+    assert pm["a"] == 1.5 and pm.property("a").defaultValue() == 1.5
+    p = core.Property()
+    p.setValue("x")
+    with pytest.raises(TypeError):
+        p.setValue(None)
+    with pytest.raises(TypeError):
+        p.setCurrentValue(None)
+    assert p.value() == "x"
+
+
+# --- introspection ids -------------------------------------------------------------------------
+
+
+def test_stage_ids_are_available_after_init_with_introspection():
+    """task.cpp Task::init gives every stage the task's Introspection (setIntrospection) and
+    publishes the task description, which numbers the stages in traverseRecursively order
+    (introspection.cpp: the task 0, the root container 1, then depth first); stage.cpp
+    Stage::introspectionId() then returns that id instead of raising."""
+    t = _task(True)
+    inner = add(t, core.SerialContainer("inner"))
+    gen = add(inner, GeneratorMockup([1.0]))
+    fwd = add(t, ForwardMockup([1.0]))
+    t.init()
+    assert [s.introspectionId() for s in (t.stages, inner, gen, fwd)] == [1, 2, 3, 4]
+    assert gen.introspection() is not None
+
+
+def test_solution_ids_follow_registration_order():
+    """stage.cpp StagePrivate::storeSolution registers every solution (failures too) with the
+    introspection when it is stored (introspection.cpp Introspection::solutionId: 1 + number
+    registered so far). A generator spawning costs 3, 1, 2 under a serial root: the generator's
+    solution is registered before the root's sequence that lifts it, so in cost order the ids
+    are [3, 5, 1] (generator) and [4, 6, 2] (root)."""
+    t = _task(True)
+    add(t, GeneratorMockup([3.0, 1.0, 2.0]))
+    assert t.plan()
+    ids = {s["name"]: [x["id"] for x in s["solutions"]] for s in t.introspection().stages}
+    assert ids == {"task pipeline": [4, 6, 2], "GEN1": [3, 5, 1]}
+
+
+def test_failure_solutions_consume_ids():
+    """stage.cpp StagePrivate::storeSolution registers a failure before storing it: a failed
+    spawn (id 1) then a success (id 2) lifted by the root (id 3)."""
+    t = _task(True)
+    add(t, GeneratorMockup([INF, 1.0]))
+    assert t.plan()
+    by_name = {s["name"]: s for s in t.introspection().stages}
+    assert [x["id"] for x in by_name["GEN1"]["failures"]] == [1]
+    assert [x["id"] for x in by_name["GEN1"]["solutions"]] == [2]
+    assert [x["id"] for x in by_name["task pipeline"]["solutions"]] == [3]
+
+
+# --- Property::serialize -----------------------------------------------------------------------
+
+
+def test_property_serialize_uses_the_stream_representation():
+    """properties.cpp Property::serialize / properties.h PropertySerializer::serialize: the value
+    is written with ``std::ostream <<`` (default precision 6, ``%g``-like; bool as 0/1), as the
+    introspection shows property values (semantics §4.1)."""
+    p = core.Property()
+    expected = {1.0: "1", 0.5: "0.5", 1234567.0: "1.23457e+06", 1e-7: "1e-07", 42: "42", "abc": "abc"}
+    for value, text in expected.items():
+        p.setValue(value)
+        assert p.serialize() == text, value
+    p.setValue(True)
+    assert p.serialize() == "1"
+    p.setValue(False)
+    assert p.serialize() == "0"

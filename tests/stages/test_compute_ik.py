@@ -140,7 +140,7 @@ def test_eef_derives_group_and_link(make_task):
     """Only eef set: group = its parent group, IK link = its parent link (panda_link8)."""
     pose = _pose(z=0.1)
     task, ik = _ik_task(make_task, pose)
-    ik.properties.property("group").setValue(None)
+    ik.properties.set("group", None)  # (C++: set("group", boost::any()))
     ik.eef = "hand"
     assert task.plan()
     start = task["current state"].solutions[0].end.scene
@@ -281,7 +281,7 @@ def test_unknown_frames(make_task, pose, ik_frame, message):
 def test_neither_eef_nor_group(make_task):
     """Without eef and group: failure "Neither eef nor group are well defined"."""
     task, ik = _ik_task(make_task, _pose(z=0.1))
-    ik.properties.property("group").setValue(None)
+    ik.properties.set("group", None)  # (C++: set("group", boost::any()))
     assert not task.plan()
     assert [f.comment for f in ik.failures] == ["Neither eef nor group are well defined"]
 

@@ -268,7 +268,7 @@ def test_pose_goal_in_another_frame(make_task, start_scene, move):
     ("configure", "message"),
     [
         (lambda m: m.setProperty("group", "panda_arn"), "invalid joint model group: panda_arn"),
-        (lambda m: m.properties.property("goal").setValue(None), "undefined goal"),
+        (lambda m: m.properties.set("goal", None), "undefined goal"),
         (lambda m: (m.setProperty("group", "hand"), m.setGoal(msgs.PoseStamped())), "missing ik_frame"),
         (lambda m: (m.setIKFrame("nowhere"), m.setGoal(msgs.PoseStamped())),
          "ik_frame specified in unknown frame 'nowhere'"),

@@ -448,6 +448,9 @@ class ContainerBase(Stage):
         cost = solution._cost
         if -INF < cost < INF:  # _storeSolution's success path, inlined
             solution._creator = self
+            intro = self._introspection
+            if intro is not None:
+                intro.solutionId(solution)
             self._solutions.insert(solution)
         elif not self._storeSolution(solution, external_from, external_to):
             return
@@ -471,20 +474,24 @@ class ContainerBase(Stage):
 
     # --- reporting -------------------------------------------------------------------------
     def explainFailure(self, file=None) -> bool:
-        """Name the first child without solutions that failed, with its first failure comment."""
+        """As MTC's ``ContainerBase::explainFailure``: children with solutions are skipped; the
+        first child with failures gets a line ``"<name> (0/<failures>)"`` followed by its own
+        explanation (a leaf: ``": <first failure comment>"``; a container: what its children
+        say) and ends the search; children without failures are searched in turn, and the
+        search goes on after them. True if anything was written."""
         out = sys.stdout if file is None else file
+        written = False
         for child in self._children:
             if child._solutions:
                 continue  # this child produced solutions: look no deeper
             if child._num_failures:
-                line = f"{child._name} (0/{child._num_failures})"
-                if child._failures:
-                    line += f": {child._failures[0]._comment}"
-                out.write(line + "\n")
+                out.write(f"{child._name} (0/{child._num_failures})")
+                child.explainFailure(out)
+                out.write("\n")
                 return True
-            if child.explainFailure(out):
-                return True
-        return False
+            if child.explainFailure(out):  # (MTC goes on with the next child)
+                written = True
+        return written
 
     def printState(self, file=None) -> None:
         """One line per stage of this subtree (see :meth:`mtc.core.Task.printState`)."""

@@ -32,6 +32,12 @@ __all__ = [
 ]
 
 
+
+def _not_none(value, what: str) -> None:
+    """MTC's binding has no C++ value for None: assigning it raises TypeError."""
+    if value is None:
+        raise TypeError(f"{what}: None is not a property value (give a value of the property's type)")
+
 class PropertyInitializerSource(IntFlag):
     """Where a property may be initialized from (MTC's ``Stage::PropertyInitializerSource``)."""
 
@@ -235,14 +241,32 @@ class Property:
 
     # --- MTC API ----------------------------------------------------------------------
     def setValue(self, value) -> None:
-        """Set current *and* default value; survives :meth:`reset` (a manual, persistent value)."""
+        """Set current *and* default value; survives :meth:`reset` (a manual, persistent value).
+
+        Raises:
+            TypeError: ``value`` is None (as MTC's binding: None has no C++ value).
+        """
+        _not_none(value, "Property.setValue")
+        self._setValue(value)
+
+    def _setValue(self, value) -> None:
+        # (PropertyMap.set, as C++'s set(name, boost::any()), may make a property undefined)
         value = self._check(value)
         self._value = value
         self._default = value
         self._initialized_from = _SET_VALUE
 
     def setCurrentValue(self, value) -> None:
-        """Set the current value only; :meth:`reset` drops it again."""
+        """Set the current value only; :meth:`reset` drops it again.
+
+        Raises:
+            TypeError: ``value`` is None.
+        """
+        _not_none(value, "Property.setCurrentValue")
+        self._setCurrent(value)
+
+    def _setCurrent(self, value) -> None:
+        # (inheritance may set a property empty: None is allowed here)
         self._value = self._check(value)
         self._initialized_from = _SET_CURRENT
 
@@ -289,9 +313,16 @@ class Property:
         return self._type
 
     def serialize(self) -> str:
-        """String form of the value ("" if it has none), as MTC's introspection shows it."""
+        """String form of the value ("" if it has none), as MTC's introspection shows it: as a
+        C++ stream writes it (numbers with 6 significant digits, bools as 1/0)."""
         v = self.value()
-        return "" if v is None else str(v)
+        if v is None:
+            return ""
+        if isinstance(v, bool):
+            return "1" if v else "0"
+        if isinstance(v, float):
+            return f"{v:g}"
+        return str(v)
 
     def initsFrom(self, source: int) -> bool:
         """Whether the property is configured to initialize from ``source``."""
@@ -400,7 +431,7 @@ class PropertyMap:
                 raise UndeclaredPropertyError(name, f"trying to set undeclared property '{name}' with NULL value")
             p = self.declare(name, type=value.__class__)
         try:
-            p.setValue(value)
+            p._setValue(value)
         except PropertyError as e:
             e.setName(name)
             raise
@@ -498,7 +529,7 @@ class PropertyMap:
             except UndefinedPropertyError:
                 value = None
             try:
-                p.setCurrentValue(value)
+                p._setCurrent(value)
             except PropertyError as e:
                 e.setName(name)
                 raise
@@ -528,6 +559,7 @@ class PropertyMap:
         return self._raw(name)
 
     def __setitem__(self, name: str, value) -> None:
+        _not_none(value, f"properties['{name}'] = ...")
         self.set(name, value)
 
     def __contains__(self, name) -> bool:
@@ -552,7 +584,9 @@ class PropertyMap:
         return [(k, self._props[k]) for k in sorted(self._props)]
 
     def update(self, values: dict) -> None:
-        """``set()`` every item of ``values``."""
+        """``set()`` every item of ``values`` (none of them may be None: then nothing is set)."""
+        for k, v in values.items():
+            _not_none(v, f"update() of property '{k}'")
         for k, v in values.items():
             self.set(k, v)
 

@@ -21,6 +21,7 @@ from __future__ import annotations
 import logging
 import math
 import numbers
+import sys
 import time
 from bisect import bisect_left, bisect_right
 from heapq import heapify, heappop, heappush, heapreplace
@@ -535,6 +536,9 @@ class Stage(TypedPropertyAccess):
     # --- solution storage (MTC's StagePrivate) ---------------------------------------------
     def _storeSolution(self, solution: SolutionBase, from_state, to_state) -> bool:
         solution._creator = self
+        intro = self._introspection
+        if intro is not None:
+            intro.solutionId(solution)  # as MTC: ids in the order solutions are stored, failures too
         cost = solution._cost
         if not (-INF < cost < INF):
             self._num_failures += 1
@@ -644,6 +648,9 @@ class Stage(TypedPropertyAccess):
         cost = solution._cost
         if -INF < cost < INF:  # _storeSolution's success path, inlined (hot in Connect-heavy tasks)
             solution._creator = self
+            intro = self._introspection
+            if intro is not None:
+                intro.solutionId(solution)
             self._solutions.insert(solution)
         elif not self._storeSolution(solution, from_state, to_state):
             return
@@ -670,8 +677,13 @@ class Stage(TypedPropertyAccess):
         return self._stateLine()
 
     def explainFailure(self, file=None) -> bool:
-        """Leaf stages have nothing more to say (containers name their failing child)."""
-        return False
+        """Write ``": <comment of the first stored failure>"`` if there is one (MTC's
+        ``Stage::explainFailure``: the rest of the line its container starts); True if written."""
+        if not self._failures:
+            return False
+        out = sys.stdout if file is None else file
+        out.write(f": {self._failures[0]._comment}")
+        return True
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} '{self._name}'>"

@@ -271,9 +271,21 @@ class Task(WrapperBase):
         # a task behaves like a generator
         root._resolveInterface(GENERATE)
         store = self._introspection_enabled
+        intro = None
+        if store:
+            # as MTC's Task::init: every stage gets the task's introspection, which numbers the
+            # stages (the root 1, then depth first) and registers solutions as they are stored
+            from mtc.core.introspection import Introspection
+
+            if self._introspection_obj is None:
+                self._introspection_obj = Introspection(self)
+            intro = self._introspection_obj
+            intro._stage_ids.clear()
+            root.traverseRecursively(lambda stage, depth: intro.stageId(stage) > 0)
         for stage in self._allStages():
             stage._store_failures = store
             stage._preempt = self._preempt_flag
+            stage._introspection = intro
         self._init_done = True
 
     def _initStage(self, robot_model) -> None:  # a task is never a child
