@@ -13,6 +13,7 @@ import math
 
 import pytest
 from mockups import (
+    ConnectMockup,
     ForwardMockup,
     GeneratorMockup,
     add,
@@ -415,3 +416,24 @@ def test_property_serialize_uses_the_stream_representation():
     assert p.serialize() == "1"
     p.setValue(False)
     assert p.serialize() == "0"
+
+
+# --- ParallelContainerBase interface validation -----------------------------------------------
+
+
+def test_parallel_validation_keeps_the_filled_interface_of_a_failing_child():
+    """container.cpp ParallelContainerBasePrivate::validateInterfaces(child, InterfaceFlags&
+    external, first) fills the unknown part of ``external`` from the child *before* it checks
+    and throws, and resolveInterface keeps that filled value for the next children: for
+    GEN1, Alternatives[GEN2, CON1], FWD1 both alternatives are reported."""
+    t = make_task()
+    add(t, GeneratorMockup())
+    alt = add(t, core.Alternatives("alt"))
+    add(alt, GeneratorMockup())
+    add(alt, ConnectMockup())
+    add(t, ForwardMockup())
+    with pytest.raises(core.InitStageError) as e:
+        t.init()
+    text = str(e.value)
+    assert "alt: interface of 'GEN2' (← →) does not match external one (→ →)." in text
+    assert "alt: interface of 'CON1' (→ ←) does not match external one (→ →)." in text

@@ -658,6 +658,14 @@ def _traverse(solutions, forward: bool, depth: int, cost: float, trace: list, re
 _ZERO = (0, 0, 0.0)  # the priority of an empty path
 
 
+
+def _filled(external: int, child_interface: int) -> int:
+    """``external`` with its unknown start/end parts taken from ``child_interface``."""
+    for mask in (START_IF_MASK, END_IF_MASK):
+        if (external & mask) == UNKNOWN:
+            external |= child_interface & mask
+    return external
+
 class ParallelContainerBase(ContainerBase):
     """Base of containers whose children work on the same input."""
 
@@ -672,6 +680,9 @@ class ParallelContainerBase(ContainerBase):
         for child in self._children:
             try:
                 child._resolveInterface(expected)
+                # as MTC (external passed by reference): the unknown parts are filled from the
+                # child before it is validated, and stay filled when the validation fails
+                expected = _filled(expected, child.requiredInterface())
                 expected = self._validateInterfaces(child, expected, first)
                 self._setChildsPushBackwardInterface(child)
                 self._setChildsPushForwardInterface(child)
