@@ -4,7 +4,8 @@ This is the only module that imports ``ompl``. :class:`OMPLPipeline` answers Mov
 motion plan requests (a joint goal or a pose goal, path constraints, a time budget, a number
 of attempts) with a geometric :class:`~mtc.scene.robot_trajectory.RobotTrajectory`: simplified,
 interpolated, collision-free at every state between its waypoints (proven, not sampled: see
-step 4) and inside the path constraints at every waypoint. Time parameterization is the caller's business (``PipelinePlanner``).
+step 4) and inside the path constraints at every waypoint. Time parameterization is the
+caller's business (``PipelinePlanner``).
 
 How a request is answered (MoveIt's ``ompl_interface`` with its default request adapters):
 
