@@ -39,6 +39,7 @@ from mtc.core.stage import (
     WRITES_PREV_END,
     Connecting,
     InitStageError,
+    PropagatingEitherWay,
     Stage,
     _as_solution,
     _as_state,
@@ -745,15 +746,9 @@ class ParallelContainerBase(ContainerBase):
         state = _as_state(state, "spawn()")
         self._spawn(state.copy(), state, _as_solution(solution, "spawn()"))
 
-    def sendForward(self, from_state: InterfaceState, to_state: InterfaceState, solution) -> None:
-        """Publish a new end state for ``from_state`` (the container acts as a propagator)."""
-        self._sendForward(_as_state(from_state, "sendForward()"), _as_state(to_state, "sendForward()"),
-                          _as_solution(solution, "sendForward()"))
-
-    def sendBackward(self, from_state: InterfaceState, to_state: InterfaceState, solution) -> None:
-        """Publish a new start state for ``to_state`` (the container acts as a propagator)."""
-        self._sendBackward(_as_state(from_state, "sendBackward()"), _as_state(to_state, "sendBackward()"),
-                           _as_solution(solution, "sendBackward()"))
+    # the container acts as a propagator: the same publishing as PropagatingEitherWay's
+    sendForward = PropagatingEitherWay.sendForward
+    sendBackward = PropagatingEitherWay.sendBackward
 
 
 class Alternatives(ParallelContainerBase):
@@ -995,9 +990,9 @@ class Merger(ParallelContainerBase):
         if traj is not None and len(traj) > 0:
             scene.current_state = traj[len(traj) - 1] if forward else traj[0]
         if forward:
-            self._sendForward(source, InterfaceState(scene), t)
+            self._send(FORWARD, source, InterfaceState(scene), t)
         else:
-            self._sendBackward(InterfaceState(scene), source, t)
+            self._send(BACKWARD, InterfaceState(scene), source, t)
 
 
 class MergeError(RuntimeError):

@@ -593,37 +593,35 @@ class Stage(TypedPropertyAccess):
             return state.copy()
         return state
 
-    def _sendForward(self, from_state: InterfaceState, to_state: InterfaceState, solution: SolutionBase) -> None:
-        next_starts = self._next_starts
-        if next_starts is None:
-            raise RuntimeError(f"stage '{self._name}' cannot send forward: it has no next stage to write to")
-        to_state = self._fresh(to_state)
+    def _send(self, direction: int, from_state: InterfaceState, to_state: InterfaceState,
+              solution: SolutionBase) -> None:
+        """MTC's sendForward (FORWARD: a new end state for ``from_state``) and sendBackward
+        (BACKWARD: a new start state for ``to_state``)."""
+        forward = direction == FORWARD
+        target = self._next_starts if forward else self._prev_ends
+        if target is None:
+            raise RuntimeError(
+                f"stage '{self._name}' cannot send forward: it has no next stage to write to" if forward else
+                f"stage '{self._name}' cannot send backward: it has no previous stage to write to"
+            )
+        # the new state is a fresh one; a failure reports the pair with the given state only
+        if forward:
+            source, new = from_state, self._fresh(to_state)
+            to_state, pair = new, (from_state, None)
+        else:
+            source, new = to_state, self._fresh(from_state)
+            from_state, pair = new, (None, to_state)
         self._computeCost(from_state, to_state, solution)
-        if not self._storeSolution(solution, from_state, None):
+        if not self._storeSolution(solution, *pair):
             return
-        self.forwardProperties(from_state, to_state)
+        self.forwardProperties(source, new)
         solution._setStartState(from_state)
         solution._setEndState(to_state)
         cost = solution._cost
         if -INF < cost < INF:
-            next_starts.add(to_state)
+            target.add(new)
         self._newSolution(solution)
 
-    def _sendBackward(self, from_state: InterfaceState, to_state: InterfaceState, solution: SolutionBase) -> None:
-        prev_ends = self._prev_ends
-        if prev_ends is None:
-            raise RuntimeError(f"stage '{self._name}' cannot send backward: it has no previous stage to write to")
-        from_state = self._fresh(from_state)
-        self._computeCost(from_state, to_state, solution)
-        if not self._storeSolution(solution, None, to_state):
-            return
-        self.forwardProperties(to_state, from_state)
-        solution._setStartState(from_state)
-        solution._setEndState(to_state)
-        cost = solution._cost
-        if -INF < cost < INF:
-            prev_ends.add(from_state)
-        self._newSolution(solution)
 
     def _spawn(self, from_state: InterfaceState, to_state: InterfaceState, solution: SolutionBase) -> None:
         prev_ends, next_starts = self._prev_ends, self._next_starts
@@ -939,19 +937,19 @@ class PropagatingEitherWay(ComputeBase):
         if scene is None:
             scene = state.scene.diff()
         if direction == FORWARD:
-            self._sendForward(state, InterfaceState(scene), trajectory)
+            self._send(FORWARD, state, InterfaceState(scene), trajectory)
         else:
-            self._sendBackward(InterfaceState(scene), state, trajectory)
+            self._send(BACKWARD, InterfaceState(scene), state, trajectory)
 
     def sendForward(self, from_state: InterfaceState, to_state: InterfaceState, solution) -> None:
         """Publish ``to_state`` as the end of a solution starting at ``from_state``."""
-        self._sendForward(_as_state(from_state, "sendForward()"), _as_state(to_state, "sendForward()"),
-                          _as_solution(solution, "sendForward()"))
+        self._send(FORWARD, _as_state(from_state, "sendForward()"), _as_state(to_state, "sendForward()"),
+                   _as_solution(solution, "sendForward()"))
 
     def sendBackward(self, from_state: InterfaceState, to_state: InterfaceState, solution) -> None:
         """Publish ``from_state`` as the start of a solution ending at ``to_state``."""
-        self._sendBackward(_as_state(from_state, "sendBackward()"), _as_state(to_state, "sendBackward()"),
-                           _as_solution(solution, "sendBackward()"))
+        self._send(BACKWARD, _as_state(from_state, "sendBackward()"), _as_state(to_state, "sendBackward()"),
+                   _as_solution(solution, "sendBackward()"))
 
 
 class PropagatingForward(PropagatingEitherWay):
