@@ -255,48 +255,52 @@ def _link_transform(state, link):
         return None
 
 
-class LinkMotion(TrajectoryCostTerm):
+class _LinkPathTerm(TrajectoryCostTerm):
+    """Sum over the trajectory's steps of how far a link (or frame) moves (:meth:`_step`)."""
+
+    _cost_name = ""
+
+    def __init__(self, link_name: str):
+        self.link_name = str(link_name)
+
+    @staticmethod
+    def _step(prev: np.ndarray, cur: np.ndarray) -> float:
+        raise NotImplementedError
+
+    def __call__(self, solution):
+        traj = solution.trajectory
+        if traj is None or len(traj) == 0:
+            return 0.0
+        wps = _waypoints(traj)
+        prev = _link_transform(wps[0], self.link_name)
+        if prev is None:
+            return INF, f"{self._cost_name}: frame '{self.link_name}' unknown in trajectory"
+        total = 0.0
+        for w in wps[1:]:
+            cur = _link_transform(w, self.link_name)
+            total += self._step(prev, cur)
+            prev = cur
+        return total
+
+
+class LinkMotion(_LinkPathTerm):
     """Cartesian path length [m] of a link (or frame) over the trajectory."""
 
-    def __init__(self, link_name: str):
-        self.link_name = str(link_name)
+    _cost_name = "LinkMotionCost"
 
-    def __call__(self, solution):
-        traj = solution.trajectory
-        if traj is None or len(traj) == 0:
-            return 0.0
-        wps = _waypoints(traj)
-        prev = _link_transform(wps[0], self.link_name)
-        if prev is None:
-            return INF, f"LinkMotionCost: frame '{self.link_name}' unknown in trajectory"
-        total = 0.0
-        for w in wps[1:]:
-            cur = _link_transform(w, self.link_name)
-            total += float(np.linalg.norm(cur[:3, 3] - prev[:3, 3]))
-            prev = cur
-        return total
+    @staticmethod
+    def _step(prev: np.ndarray, cur: np.ndarray) -> float:
+        return float(np.linalg.norm(cur[:3, 3] - prev[:3, 3]))
 
 
-class LinkRotation(TrajectoryCostTerm):
+class LinkRotation(_LinkPathTerm):
     """Accumulated rotation [rad] of a link (or frame) over the trajectory."""
 
-    def __init__(self, link_name: str):
-        self.link_name = str(link_name)
+    _cost_name = "LinkRotationCost"
 
-    def __call__(self, solution):
-        traj = solution.trajectory
-        if traj is None or len(traj) == 0:
-            return 0.0
-        wps = _waypoints(traj)
-        prev = _link_transform(wps[0], self.link_name)
-        if prev is None:
-            return INF, f"LinkRotationCost: frame '{self.link_name}' unknown in trajectory"
-        total = 0.0
-        for w in wps[1:]:
-            cur = _link_transform(w, self.link_name)
-            total += msgs.rotation_angle(prev[:3, :3].T @ cur[:3, :3])
-            prev = cur
-        return total
+    @staticmethod
+    def _step(prev: np.ndarray, cur: np.ndarray) -> float:
+        return msgs.rotation_angle(prev[:3, :3].T @ cur[:3, :3])
 
 
 def _fmt_double(x: float) -> str:
