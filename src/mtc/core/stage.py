@@ -159,6 +159,17 @@ class InitStageError(RuntimeError):
         self.errors.extend(other.errors)
         other.errors = []
 
+    @staticmethod
+    def collect(init: Callable, *args) -> "InitStageError":
+        """Run ``init(*args)`` and return the problems it raised (empty if none), so a stage's
+        ``init`` can add its own before raising all of them together."""
+        errors = InitStageError()
+        try:
+            init(*args)
+        except InitStageError as e:
+            errors.append(e)
+        return errors
+
     def __bool__(self) -> bool:
         return bool(self.errors)
 

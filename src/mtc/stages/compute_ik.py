@@ -160,11 +160,7 @@ class ComputeIK(WrapperBase):
         self._consumed = 0
 
     def init(self, robot_model) -> None:
-        errors = InitStageError()
-        try:
-            super().init(robot_model)
-        except InitStageError as e:
-            errors.append(e)
+        errors = InitStageError.collect(super().init, robot_model)
         # eef and group may also come from the interface; validate what is known now
         _, _, msg = self._groups(robot_model)
         if msg:

@@ -185,11 +185,7 @@ class GenerateGraspPose(GeneratePose):
 
     # --- lifecycle ----------------------------------------------------------------------
     def init(self, robot_model) -> None:
-        errors = InitStageError()
-        try:
-            super().init(robot_model)
-        except InitStageError as e:
-            errors.append(e)
+        errors = InitStageError.collect(super().init, robot_model)
         p = self.properties
         if p.get("angle_delta") == 0.0:
             errors.push_back(self, "angle_delta must be non-zero")

@@ -104,11 +104,7 @@ class GeneratePlacePose(GeneratePose):
         self.properties.set("object", object_name)
 
     def init(self, robot_model) -> None:
-        errors = InitStageError()
-        try:
-            super().init(robot_model)
-        except InitStageError as e:
-            errors.append(e)
+        errors = InitStageError.collect(super().init, robot_model)
         if self.properties.get("object", None) is None:
             errors.push_back(
                 self,

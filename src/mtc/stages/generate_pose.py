@@ -94,11 +94,7 @@ class GeneratePose(MonitoringGenerator):
         self.properties.set("pose", pose)
 
     def init(self, robot_model) -> None:
-        errors = InitStageError()
-        try:
-            super().init(robot_model)
-        except InitStageError as e:
-            errors.append(e)
+        errors = InitStageError.collect(super().init, robot_model)
         if self._requires_pose and self.properties.get("pose", None) is None:
             # MTC fails later with a bare "undefined" property error; say it up front
             errors.push_back(self, "Property 'pose': undefined (set it: stage.pose = PoseStamped(...) or setPose())")

@@ -46,11 +46,7 @@ class LimitSolutions(WrapperBase):
         self._forwarded = 0
 
     def init(self, robot_model) -> None:
-        errors = InitStageError()
-        try:
-            super().init(robot_model)
-        except InitStageError as e:
-            errors.append(e)
+        errors = InitStageError.collect(super().init, robot_model)
         if self.properties.get("max_solutions", None) is None:
             # MTC leaves this to an "undefined" property error at compute time; say it up front
             errors.push_back(

@@ -53,11 +53,7 @@ class PredicateFilter(WrapperBase):
         self.properties.set("ignore_filter", ignore)
 
     def init(self, robot_model) -> None:
-        errors = InitStageError()
-        try:
-            super().init(robot_model)
-        except InitStageError as e:
-            errors.append(e)
+        errors = InitStageError.collect(super().init, robot_model)
         if self.properties.get("predicate", None) is None:
             errors.push_back(self, "predicate is not specified (set it: stage.predicate = f or setPredicate(f))")
         if errors:
