@@ -10,6 +10,7 @@ from __future__ import annotations
 from mtc import msgs
 from mtc.core.cost_terms import PathLength
 from mtc.core.stage import InitStageError, PropagatingEitherWay
+from mtc.core.storage import InterfaceState, SubTrajectory
 from mtc.stages._common import ik_frame_from_args
 
 __all__ = ["PlannerStage", "check_planner", "planner_message", "synthesized_trajectory"]
@@ -91,3 +92,16 @@ class PlannerStage(PropagatingEitherWay):
         if self._planner is None:
             raise InitStageError(self, "no planner specified (pass one to the constructor or use setPlanner())")
         self._planner.init(robot_model)
+
+    def _sceneAndGroup(self, state: InterfaceState, goal_property: str, undefined: str):
+        """The diff of ``state``'s scene to plan in, the group, and the goal property's value;
+        or, where the group is unknown or the goal undefined, ``(scene, None, failure)``."""
+        scene = state.scene.diff()
+        model = scene.robot_model
+        group = self.properties.get("group")
+        if not model.has_joint_model_group(group):
+            return scene, None, SubTrajectory.failure(f"invalid joint model group: {group}")
+        goal = self.properties.get(goal_property, None)
+        if goal is None:
+            return scene, None, SubTrajectory.failure(undefined)
+        return scene, model.get_joint_model_group(group), goal

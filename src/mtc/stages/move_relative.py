@@ -89,16 +89,12 @@ class MoveRelative(PlannerStage):
         Raises:
             RuntimeError: A joint delta for a joint outside the group (as MTC).
         """
-        scene = state.scene.diff()
+        scene, jmg, motion = self._sceneAndGroup(state, "direction", "undefined direction")
+        if jmg is None:
+            return False, scene, motion
         model = scene.robot_model
         props = self.properties
-        group = props.get("group")
-        if not model.has_joint_model_group(group):
-            return False, scene, SubTrajectory.failure(f"invalid joint model group: {group}")
-        jmg = model.get_joint_model_group(group)
-        motion = props.get("direction", None)
-        if motion is None:
-            return False, scene, SubTrajectory.failure("undefined direction")
+        group = jmg.name
         max_distance = float(props.get("max_distance"))
         min_distance = float(props.get("min_distance"))
         # min == max: move the full distance

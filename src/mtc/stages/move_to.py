@@ -72,16 +72,12 @@ class MoveTo(PlannerStage):
             InitStageError: A joint-space goal that cannot apply to the group (unknown named
                 state, non-diff RobotState, joint outside the group), as MTC.
         """
-        scene = state.scene.diff()
+        scene, jmg, goal = self._sceneAndGroup(state, "goal", "undefined goal")
+        if jmg is None:
+            return False, scene, goal
         model = scene.robot_model
         props = self.properties
-        group = props.get("group")
-        if not model.has_joint_model_group(group):
-            return False, scene, SubTrajectory.failure(f"invalid joint model group: {group}")
-        jmg = model.get_joint_model_group(group)
-        goal = props.get("goal", None)
-        if goal is None:
-            return False, scene, SubTrajectory.failure("undefined goal")
+        group = jmg.name
         timeout = props.get("timeout")
         path_constraints = props.get("path_constraints")
 
