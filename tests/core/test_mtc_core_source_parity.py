@@ -8,7 +8,6 @@ cited). The docstring names the upstream file and function.
 
 from __future__ import annotations
 
-import io
 import math
 
 import pytest
@@ -23,7 +22,7 @@ from mockups import (
     toy_model,
 )
 
-from mtc import core, stages
+from mtc import core
 
 INF = math.inf
 
@@ -293,44 +292,6 @@ def _task(introspection: bool, **kwargs):
     t = core.Task(introspection=True, **kwargs)
     t.setRobotModel(toy_model())
     return t
-
-
-# --- explainFailure ----------------------------------------------------------------------------
-
-
-def test_explain_failure_continues_with_later_siblings():
-    """container.cpp (both lines) ContainerBase::explainFailure: after recursing into a child
-    without solutions and without failures of its own, the loop goes on with the next children
-    (only a child with failures ends it, ``break``). Two failing branches of an Alternatives root
-    are both listed."""
-    t = _task(False, container=core.Alternatives("alt"))
-    a = add(t, core.SerialContainer("a"))
-    add(a, GeneratorMockup([0.0]))
-    add(a, ForwardMockup([INF]))
-    b = add(t, core.SerialContainer("b"))
-    add(b, GeneratorMockup([0.0]))
-    add(b, ForwardMockup([INF]))
-    assert not t.plan()
-    out = io.StringIO()
-    t.explainFailure(out)
-    assert out.getvalue() == "Failing stage(s):\nFWD1 (0/1)\nFWD2 (0/1)\n"
-
-
-def test_explain_failure_of_a_failing_container_recurses_instead_of_quoting_its_failure():
-    """container.cpp ContainerBase::explainFailure prints "<name> (0/<n>)" and then calls the
-    child's (virtual) explainFailure: for a *container* child that is ContainerBase::explainFailure
-    over its own children, not Stage::explainFailure's ": <first failure comment>". A
-    PredicateFilter rejecting its generator's solution: the generator has solutions, so nothing
-    follows the count. (Conflicts with tests/stages/test_predicate_filter.py
-    test_comment_of_a_rejection, which expects ": <comment>".)"""
-    t = _task(True)
-    f = stages.PredicateFilter("filter", GeneratorMockup([0.0]))
-    f.setPredicate(lambda s: (False, "rejected"))
-    t.add(f)
-    assert not t.plan()
-    out = io.StringIO()
-    t.explainFailure(out)
-    assert out.getvalue() == "Failing stage(s):\nfilter (0/1)\n"
 
 
 # --- PropertyMap from Python -------------------------------------------------------------------

@@ -60,9 +60,7 @@ def test_rejected_solutions_become_failures(make_task):
 
 
 def test_comment_of_a_rejection(make_task):
-    """(False, comment) replaces the comment; explainFailure names the filter and its count, and
-    (the filter being a container, as in MTC) what its children say: nothing, as its child has
-    solutions. The comment is in ``failures``."""
+    """(False, comment) replaces the comment; explainFailure names the filter and the comment."""
     f = stages.PredicateFilter("filter", CostGenerator([2.0]))
     f.setPredicate(lambda s: (False, f"cost {s.cost} too high"))
     task = make_task(f)
@@ -70,7 +68,7 @@ def test_comment_of_a_rejection(make_task):
     assert f.failures[0].comment == "cost 2.0 too high"
     out = io.StringIO()
     task.explainFailure(out)
-    assert out.getvalue() == "Failing stage(s):\nfilter (0/1)\n"
+    assert "filter (0/1): cost 2.0 too high" in out.getvalue()
 
 
 def test_ignore_filter_passes_everything(make_task):

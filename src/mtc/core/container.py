@@ -475,24 +475,23 @@ class ContainerBase(Stage):
 
     # --- reporting -------------------------------------------------------------------------
     def explainFailure(self, file=None) -> bool:
-        """As MTC's ``ContainerBase::explainFailure``: children with solutions are skipped; the
-        first child with failures gets a line ``"<name> (0/<failures>)"`` followed by its own
-        explanation (a leaf: ``": <first failure comment>"``; a container: what its children
-        say) and ends the search; children without failures are searched in turn, and the
-        search goes on after them. True if anything was written."""
+        """Name the first child without solutions that failed, with its first failure comment
+        (semantics §1.7): children with solutions are skipped, a child with failures gets the
+        line ``"<name> (0/<failures>): <comment>"`` and ends the search, other children are
+        searched in turn (the first that explains ends it)."""
         out = sys.stdout if file is None else file
-        written = False
         for child in self._children:
             if child._solutions:
                 continue  # this child produced solutions: look no deeper
             if child._num_failures:
-                out.write(f"{child._name} (0/{child._num_failures})")
-                child.explainFailure(out)
-                out.write("\n")
+                line = f"{child._name} (0/{child._num_failures})"
+                if child._failures:
+                    line += f": {child._failures[0]._comment}"
+                out.write(line + "\n")
                 return True
-            if child.explainFailure(out):  # (MTC goes on with the next child)
-                written = True
-        return written
+            if child.explainFailure(out):
+                return True
+        return False
 
     def printState(self, file=None) -> None:
         """One line per stage of this subtree (see :meth:`mtc.core.Task.printState`)."""

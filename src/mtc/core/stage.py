@@ -21,7 +21,6 @@ from __future__ import annotations
 import logging
 import math
 import numbers
-import sys
 import time
 from bisect import bisect_left, bisect_right
 from heapq import heapify, heappop, heappush, heapreplace
@@ -686,13 +685,9 @@ class Stage(TypedPropertyAccess):
         return self._stateLine()
 
     def explainFailure(self, file=None) -> bool:
-        """Write ``": <comment of the first stored failure>"`` if there is one (MTC's
-        ``Stage::explainFailure``: the rest of the line its container starts); True if written."""
-        if not self._failures:
-            return False
-        out = sys.stdout if file is None else file
-        out.write(f": {self._failures[0]._comment}")
-        return True
+        """Leaf stages have nothing more to say (containers name their failing child; semantics
+        §1.3: leaf -> False)."""
+        return False
 
     def __repr__(self) -> str:
         return f"<{type(self).__name__} '{self._name}'>"

@@ -1,8 +1,8 @@
 """PredicateFilter: a wrapper that rejects child solutions a predicate does not accept.
 
 MTC's ``stages/predicate_filter.h`` (semantics §2.17; never bound to Python by MTC, #139).
-A rejected solution is lifted as a failure of the filter (infinite cost) with the predicate's
-comment, so it is counted (``explainFailure()`` names the filter), and prunes like any failure.
+A rejected solution is lifted as a failure of the filter (infinite cost), so it is counted,
+shows up in ``explainFailure()`` with the predicate's comment, and prunes like any failure.
 """
 
 from __future__ import annotations
