@@ -8,11 +8,11 @@ property. For each of the child's solutions, cheapest first, it
 2. resolves the end effector / group, the target in the planning frame and the IK frame
    (a link, an attached object or an object's subframe, plus an offset on it),
 3. unless ``ignore_collisions``, checks the end-effector links placed at the target against
-   the world ("<upstream comment> eef in collision: a - b", the first colliding pair),
+   the world ("<upstream comment> eef in collision: a - b, c - d"),
 4. solves IK, first from the scene's state, then from random seeds, and spawns every
    distinct candidate (closer than ``min_solution_distance`` to an earlier one counts as
    the same): valid ones with cost = upstream cost + joint distance to ``default_pose`` (or
-   to the start state), colliding ones as failures "Collision between 'a' and 'b'", ones
+   to the start state), colliding ones as failures "Collision between a - b", ones
    violating ``constraints`` as failures "Constraints violated" (both before the upstream
    comment, on a line of their own); with none at all, "<upstream comment> no IK found".
    As in MTC, the search stops once ``max_ik_solutions`` candidates are recorded, valid or
@@ -270,9 +270,9 @@ class ComputeIK(WrapperBase):
         if not ignore_collisions:
             pairs = eef_collisions(scene, link, link_target)
             if pairs:
-                # (MTC's text: the upstream comment, then " eef in collision: a - b")
-                self._fail(s, f"{s.comment} eef in collision: {format_collision_pairs([first_collision_pair(pairs)])}",
-                           markers=markers)
+                # (semantics §2.3: the upstream comment, then " eef in collision: a - b, c - d")
+                pairs = sorted(tuple(sorted(p[:2])) for p in pairs)
+                self._fail(s, f"{s.comment} eef in collision: {format_collision_pairs(pairs)}", markers=markers)
                 return
 
         # 6. reference for the cost
@@ -367,7 +367,7 @@ class ComputeIK(WrapperBase):
         valid = False
         if not ignore_collisions and new_scene.is_state_colliding(state, jmg.name):
             a, b = first_collision_pair(new_scene.get_collisions(state, jmg.name))
-            solution.markAsFailure(f"Collision between '{a}' and '{b}'")
+            solution.markAsFailure(f"Collision between {a} - {b}")  # (semantics §2.3; one contact)
         elif constraint_set is not None and not constraint_set.satisfied(state, new_scene):
             solution.markAsFailure("Constraints violated")
         else:
