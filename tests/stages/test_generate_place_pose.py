@@ -156,7 +156,7 @@ def test_pose_in_another_frame(make_task, holding):
 @pytest.mark.parametrize(
     "attached, obj, message",
     [
-        (True, "ghost", "frame 'ghost' is not attached to the robot"),
+        (True, "ghost", "frame 'ghost' is not known"),
         (False, "object", "frame 'object' is not attached to the robot"),
     ],
 )

@@ -203,23 +203,6 @@ def test_connect_failure_comment_is_the_planner_message(make_task, ready_scene):
     assert [f.comment for f in c.failures] == [""]
 
 
-# ---------------------------------------------------------------------------- GeneratePlacePose
-def test_place_pose_unknown_object_reads_not_attached(make_task, ready_scene):
-    """generate_place_pose.cpp (79075b5f), GeneratePlacePose::onNewSolution():
-    ``getFrameInfo(object, link, frame_found); if (!frame_found) msg = "... is not known";
-    if (!link) msg = "frame '...' is not attached to the robot";`` - an unknown name has no
-    link either, so the second message overwrites the first: MTC never says "is not known"."""
-    fixed = stages.FixedState("s", ready_scene)
-    g = stages.GeneratePlacePose("place pose")
-    g.object = "ghost"
-    g.pose = msgs.PoseStamped(header=msgs.Header(frame_id="world"),
-                              pose=msgs.Pose(position=msgs.Point(x=0.5, z=0.4), orientation=msgs.Quaternion(w=1.0)))
-    g.setMonitoredStage(fixed)
-    task = make_task(fixed, stages.Connect("c", [("panda_arm", JointInterpolationPlanner())]), g)
-    assert not task.plan()
-    assert [f.comment for f in g.failures] == ["frame 'ghost' is not attached to the robot"]
-
-
 # ----------------------------------------------------------------------------------- cost terms
 def test_clearance_comment_prints_the_distance_exactly(make_task, ready_scene, box):
     """cost_terms.cpp (98000f37), Clearance::operator(): ``fmt::format(PREFIX + "average{}

@@ -117,9 +117,10 @@ class GeneratePlacePose(GeneratePose):
     def onNewSolution(self, solution: SolutionBase) -> None:
         scene = solution.end.scene
         obj = self.properties.get("object")
-        # (MTC tests "known" first and "attached" second, the second message replacing the
-        # first: an unknown frame is reported as not attached as well)
-        if not scene.knows_frame_transform(obj) or obj.partition("/")[0] not in scene.attached_object_names:
+        if not scene.knows_frame_transform(obj):  # (semantics §2.11's two messages)
+            self.failOrWarn(scene, f"frame '{obj}' is not known")
+            return
+        if obj.partition("/")[0] not in scene.attached_object_names:
             self.failOrWarn(scene, f"frame '{obj}' is not attached to the robot")
             return
         super().onNewSolution(solution)
