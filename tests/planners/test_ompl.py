@@ -332,6 +332,51 @@ def test_bisection_order_is_a_permutation_with_the_end_first():
     assert op._bisection_order(8)[:4].tolist() == [8, 4, 2, 6]
 
 
+def test_pieces_cut_at_split_points_are_sampled_at_the_edge_states(ready_scene):
+    """A piece of an edge cut at states :meth:`split` picks is checked at the edge's own
+    sampled states (so it inherits the edge's validity), and the split snaps to the ends."""
+    group = ready_scene.robot_model.get_joint_model_group(ARM)
+    base = ready_scene.current_state.positions.copy()
+    checker = op._EdgeChecker(ready_scene, group, base, None, op.DEFAULT_RESOLUTION, op.DEFAULT_SEARCH_RATIO)
+    rng = np.random.default_rng(5)
+    x0 = base[group.variable_indices]
+    for _ in range(50):
+        a = x0 + rng.uniform(-0.3, 0.3, len(x0))
+        b = a + rng.uniform(-1.2, 1.2, len(x0))
+        n = checker._coarse_segments(b - a)
+        edge_states = {tuple(np.round(a + (j / n) * (b - a), 12)) for j in range(n + 1)}
+        for f in rng.uniform(0, 1, 5):
+            p, t = checker.split(a, b, f)
+            assert abs(t - f) <= 0.5 / n + 1e-12
+            for u, v in ((a, p), (p, b)):
+                m = checker._coarse_segments(v - u)
+                piece = {tuple(np.round(u + (j / m) * (v - u), 12)) for j in range(m + 1)}
+                assert piece <= edge_states
+    a = x0.copy()
+    b = a + 0.5
+    assert checker.split(a, b, 0.001)[0] is a and checker.split(a, b, 0.999)[0] is b
+    # a piece inherits what is known of its edge, and nothing more
+    p, _ = checker.split(a, b, 0.5)
+    checker.inherit(a, b, a, p)
+    assert checker.states_checked == 0 and (a.tobytes() + p.tobytes()) not in checker._coarse_edges
+    assert checker.edge_ok(a, b)
+    checker.inherit(a, b, a, p)
+    before = checker.states_checked
+    assert checker.edge_ok(a, p) and checker.edge_ok(p, a) and checker.states_checked == before
+
+
+def test_a_failed_full_check_is_not_repeated(blocked):
+    scene, start, goal = blocked
+    group = scene.robot_model.get_joint_model_group(ARM)
+    base = start.positions.copy()
+    checker = op._EdgeChecker(scene, group, base, None, op.DEFAULT_RESOLUTION, op.DEFAULT_SEARCH_RATIO)
+    a, b = start.positions[group.variable_indices], goal.positions[group.variable_indices]
+    assert not checker.edge_ok_fine(a, b)
+    before = checker.states_checked
+    assert not checker.edge_ok_fine(a, b) and not checker.edge_ok_fine(b, a)
+    assert checker.states_checked == before
+
+
 def test_planning_prints_nothing_and_leaks_nothing():
     """OMPL's objects are released: no nanobind leak report or OMPL chatter at exit."""
     code = textwrap.dedent(

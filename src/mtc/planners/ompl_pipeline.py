@@ -368,6 +368,9 @@ class _EdgeChecker:
         self._valid_states: set[bytes] = set()  # states known valid (tree vertices, ends)
         self._coarse_edges: set[bytes] = set()  # edges valid at the search resolution
         self._fine_edges: set[bytes] = set()  # edges valid at the full resolution
+        # edges that failed the full check (a failing proof is the costliest check there is,
+        # and the repair of a path asks again for the edge that made the path fail)
+        self._bad_fine: set[bytes] = set()
         self._contiguous = isinstance(self._cols, slice)
         self._buf = np.repeat(self._base[None, :], 64, axis=0)  # states of one edge
         self._coarse_t: dict[int, np.ndarray] = {}
@@ -494,19 +497,25 @@ class _EdgeChecker:
         key = a.tobytes() + b.tobytes()
         if key in self._fine_edges:
             return True
-        if not self._edge_ok_coarse(a, b, key):
+        if key in self._bad_fine:
             return False
-        d = b - a
-        n = self._coarse_segments(d)
-        if self.ratio > 1 and (self._constraints is not None or not self.certified):
-            rest = self._fine_params(n)  # the others were checked by edge_ok
-            if rest.size and not self._check_params(a, d, rest):
-                return False
-        if self.certified and not self._certify(a, d, n):
-            return False
-        self._fine_edges.add(key)
-        self._fine_edges.add(b.tobytes() + a.tobytes())
-        return True
+        ok = self._edge_ok_coarse(a, b, key)
+        if ok:
+            d = b - a
+            n = self._coarse_segments(d)
+            if self.ratio > 1 and (self._constraints is not None or not self.certified):
+                rest = self._fine_params(n)  # the others were checked by edge_ok
+                ok = not rest.size or self._check_params(a, d, rest)
+            if ok and self.certified:
+                ok = self._certify(a, d, n)
+        reverse = b.tobytes() + a.tobytes()
+        if ok:
+            self._fine_edges.add(key)
+            self._fine_edges.add(reverse)
+        else:
+            self._bad_fine.add(key)
+            self._bad_fine.add(reverse)
+        return ok
 
     def _certify(self, a: np.ndarray, d: np.ndarray, n: int) -> bool:
         """Whether the motion ``a + t d``, t in [0, 1], is collision-free at every t, given
@@ -593,6 +602,39 @@ class _EdgeChecker:
         self.states_checked += n - 1
         return all(self._collision_free(qa + (k / n) * delta) for k in range(1, n))
 
+    def split(self, a: np.ndarray, b: np.ndarray, f: float) -> tuple[np.ndarray, float]:
+        """The state of the edge ``a -> b`` the search samples (see :meth:`segments`) nearest to
+        ``a + f (b - a)``, and its parameter (``a`` or ``b`` itself at the ends).
+
+        A piece of the edge between such states is sampled at states of the edge: ``k`` of the
+        edge's ``n`` segments make ``ceil(k dmax / n / coarse) = k`` segments of the piece, as
+        ``dmax / coarse`` lies in ``(n - 1, n]``."""
+        n = self._coarse_segments(b - a)
+        k = int(round(f * n))
+        if k <= 0:
+            return a, 0.0
+        if k >= n:
+            return b, 1.0
+        t = k / n
+        return a + t * (b - a), t
+
+    def inherit(self, a: np.ndarray, b: np.ndarray, pa: np.ndarray, pb: np.ndarray) -> None:
+        """Record the piece ``pa -> pb`` of the edge ``a -> b``, cut at states of :meth:`split`,
+        as valid as far as the edge is known to be: its sampled states are the edge's, and a
+        piece of a motion proven collision-free is."""
+        key = a.tobytes() + b.tobytes()
+        piece, reverse = pa.tobytes() + pb.tobytes(), pb.tobytes() + pa.tobytes()
+        if key in self._fine_edges:
+            self._fine_edges.add(piece)
+            self._fine_edges.add(reverse)
+        elif key in self._coarse_edges:
+            self._coarse_edges.add(piece)
+            self._coarse_edges.add(reverse)
+        else:
+            return
+        self._valid_states.add(pa.tobytes())
+        self._valid_states.add(pb.tobytes())
+
     def path_ok(self, path: np.ndarray, fine: bool = False) -> bool:
         check = self.edge_ok_fine if fine else self.edge_ok
         return all(check(path[i], path[i + 1]) for i in range(len(path) - 1))
@@ -632,11 +674,16 @@ def _path_length(path: np.ndarray) -> float:
 
 
 def _shortcut(path: np.ndarray, check: Callable[[np.ndarray, np.ndarray], bool], rng: np.random.Generator,
-              deadline: float) -> np.ndarray:
+              deadline: float, checker: _EdgeChecker | None = None) -> np.ndarray:
     """Shorten a valid path: greedy vertex shortcuts, then random shortcuts between points on
     the path until :data:`SHORTCUT_FAILURES` tries in a row brought
     nothing. The work is bounded by counts, not time, so a seed gives one result; ``deadline``
-    (the request's) only stops it early. Every edge of the result passed ``check``."""
+    (the request's) only stops it early. Every edge of the result passed ``check``.
+
+    With ``checker`` (whose method ``check`` is), the points of a random shortcut lie on the
+    states the checker samples along their edges (see :meth:`_EdgeChecker.split`): the pieces
+    of an edge that a shortcut leaves in the path are sampled at the edge's own states, so
+    they are valid as far as the edge is, and are not checked again."""
     path = [np.asarray(p, dtype=float) for p in path]
     # 1) greedy: from each vertex jump to the farthest vertex it sees
     out = [path[0]]
@@ -669,17 +716,30 @@ def _shortcut(path: np.ndarray, check: Callable[[np.ndarray, np.ndarray], bool],
         if e1 == e2:
             failures += 1
             continue
-        p1 = path[e1] + (s1 - cum[e1]) / seg[e1] * (path[e1 + 1] - path[e1]) if seg[e1] > 0 else path[e1]
-        p2 = path[e2] + (s2 - cum[e2]) / seg[e2] * (path[e2 + 1] - path[e2]) if seg[e2] > 0 else path[e2]
+        f1 = (s1 - cum[e1]) / seg[e1] if seg[e1] > 0 else 0.0
+        f2 = (s2 - cum[e2]) / seg[e2] if seg[e2] > 0 else 0.0
+        if checker is not None:
+            p1, f1 = checker.split(path[e1], path[e1 + 1], f1)
+            p2, f2 = checker.split(path[e2], path[e2 + 1], f2)
+        else:
+            p1 = path[e1] + f1 * (path[e1 + 1] - path[e1])
+            p2 = path[e2] + f2 * (path[e2 + 1] - path[e2])
         new_len = float(np.linalg.norm(p2 - p1))
-        old_len = (cum[e1 + 1] - s1) + (cum[e2] - cum[e1 + 1]) + (s2 - cum[e2])
+        old_len = (1.0 - f1) * seg[e1] + (cum[e2] - cum[e1 + 1]) + f2 * seg[e2]
         if new_len >= old_len - 1e-6:
             failures += 1
             continue
-        # the pieces p[e1] -> p1 and p2 -> p[e2+1] lie on edges already checked; the caller
-        # checks the result at the full resolution
         if check(p1, p2):
-            path = path[: e1 + 1] + [p1, p2] + path[e2 + 1 :]
+            # the pieces p[e1] -> p1 and p2 -> p[e2+1] lie on edges already checked (with
+            # ``checker``, at their own sampled states; the caller checks the result in full)
+            head = path[: e1 + 1] if f1 > 0.0 else path[:e1]
+            tail = path[e2 + 1 :] if f2 < 1.0 else path[e2 + 2 :]
+            if checker is not None:
+                if 0.0 < f1 < 1.0:
+                    checker.inherit(path[e1], path[e1 + 1], path[e1], p1)
+                if 0.0 < f2 < 1.0:
+                    checker.inherit(path[e2], path[e2 + 1], p2, path[e2 + 1])
+            path = head + [p1, p2] + tail
             failures = 0
         else:
             failures += 1
@@ -1155,7 +1215,7 @@ class OMPLPipeline:
         checker = req.checker
         deadline = req.deadline
         rng = np.random.default_rng([int(seed), 2])
-        out = _shortcut(path, checker.edge_ok, rng, deadline)
+        out = _shortcut(path, checker.edge_ok, rng, deadline, checker)
         if not checker.path_ok(out, fine=True):
             # replan the failing edges of the shortened path (a few, short); the search's own
             # path is longer and would need every one of its edges checked in full
@@ -1164,7 +1224,7 @@ class OMPLPipeline:
                 repaired = self._repair(req, path, runner, cls_name, seed)
             out = repaired
             if repaired is not None:
-                again = _shortcut(repaired, checker.edge_ok_fine, rng, deadline)
+                again = _shortcut(repaired, checker.edge_ok_fine, rng, deadline, checker)
                 if checker.path_ok(again, fine=True):
                     out = again
         self.last_stats.simplify_time += time.perf_counter() - t0
