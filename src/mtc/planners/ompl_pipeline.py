@@ -1206,19 +1206,24 @@ class OMPLPipeline:
         return float(np.linalg.norm(req.upper - req.lower)) / 100.0
 
     def _finalize(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int):
-        """Shortcut a path the search found (its edges valid at the search resolution) and make
-        sure the result is valid in full (:meth:`_EdgeChecker.edge_ok_fine`: collision-free at
-        every state). Edges of the shortened path that fail the full check are replanned (a
-        short sub-search each; the search's own path is repaired that way if this fails), and
-        the result shortened again with full checks. None if that does not succeed in time."""
+        """Shortcut a path the search found (its edges valid at the search resolution) with
+        shortcuts valid in full (:meth:`_EdgeChecker.edge_ok_fine`: collision-free at every
+        state) and make sure the result is valid in full. Edges of the shortened path that
+        fail the full check (the search's own) are replanned (a short sub-search each; the
+        search's own path is repaired that way if this fails), and the result shortened again.
+        None if that does not succeed in time."""
         t0 = time.perf_counter()
         checker = req.checker
         deadline = req.deadline
         rng = np.random.default_rng([int(seed), 2])
-        out = _shortcut(path, checker.edge_ok, rng, deadline, checker)
+        # shortcuts are taken only when they pass the full check: a shortcut checked at the
+        # search's resolution often grazes an obstacle between its sampled states (it cuts the
+        # corners the search went around), and replanning it costs more than its proof
+        out = _shortcut(path, checker.edge_ok_fine, rng, deadline, checker)
         if not checker.path_ok(out, fine=True):
-            # replan the failing edges of the shortened path (a few, short); the search's own
-            # path is longer and would need every one of its edges checked in full
+            # replan the failing edges of the shortened path (edges of the search's path that
+            # no shortcut replaced); the search's own path would need every one of its edges
+            # checked in full
             repaired = self._repair(req, out, runner, cls_name, seed)
             if repaired is None:
                 repaired = self._repair(req, path, runner, cls_name, seed)
