@@ -347,6 +347,7 @@ class _EdgeChecker:
         model = scene.robot_model
         self._motion = scene.motion_checker(group.name, np.array(base, dtype=float))
         self._collision_free = self._motion.free
+        self._first_colliding = self._motion.first_colliding
         self._constraints = None if constraints is None or constraints.empty else constraints
         self._idx = group.variable_indices
         idx = self._idx
@@ -421,7 +422,7 @@ class _EdgeChecker:
         overhead of a check)."""
         t = self._coarse_t.get(n)
         if t is None:
-            t = self._order(n) / n
+            t = (self._order(n) / n)[:, None]
             if len(self._coarse_t) < 4096:
                 self._coarse_t[n] = t
         return t
@@ -432,13 +433,14 @@ class _EdgeChecker:
         if t is None:
             m = n * self.ratio
             order = self._order(m)
-            t = order[order % self.ratio != 0] / m
+            t = (order[order % self.ratio != 0] / m)[:, None]
             if len(self._fine_t) < 4096:
                 self._fine_t[n] = t
         return t
 
     def _check_params(self, a: np.ndarray, d: np.ndarray, t: np.ndarray) -> bool:
-        """Whether the states ``a + t_i d`` are valid, checked in the order of ``t``."""
+        """Whether the states ``a + t_i d`` are valid, checked in the order of ``t`` (a column:
+        ``m x 1``)."""
         t0 = time.perf_counter()
         m = len(t)
         # the states are written into a buffer holding the base state (the other variables)
@@ -447,21 +449,27 @@ class _EdgeChecker:
         Q = self._buf[:m]
         if self._contiguous:
             view = Q[:, self._cols]
-            np.multiply(t[:, None], d, out=view)
+            np.multiply(t, d, out=view)
             view += a
         else:
-            Q[:, self._cols] = a + t[:, None] * d
+            Q[:, self._cols] = a + t * d
         if self._mimic:
             self._model.enforce_mimic(Q)
-        ok = True
-        cf = self._collision_free
         cons = self._constraints
-        checked = m
-        for i, q in enumerate(Q):
-            if not cf(q) or (cons is not None and not cons(q)):
-                ok = False
-                checked = i + 1
-                break
+        if cons is None:
+            # the loop over the states runs in the motion checker (one Python call per edge)
+            bad = self._first_colliding(Q)
+            ok = bad < 0
+            checked = m if ok else bad + 1
+        else:
+            ok = True
+            cf = self._collision_free
+            checked = m
+            for i, q in enumerate(Q):
+                if not cf(q) or not cons(q):
+                    ok = False
+                    checked = i + 1
+                    break
         self.states_checked += checked
         self.check_time += time.perf_counter() - t0
         return ok

@@ -517,6 +517,15 @@ class MotionChecker:
         """Whether the full variable vector ``q`` is collision-free."""
         return not self._compute(self._pm, self._data, self._manager, q, True)
 
+    def first_colliding(self, Q: np.ndarray) -> int:
+        """Index of the first row of ``Q`` (full variable vectors) in collision, -1 if none (the
+        rows after it are not checked)."""
+        compute, pm, data, manager = self._compute, self._pm, self._data, self._manager
+        for i, q in enumerate(Q):
+            if compute(pm, data, manager, q, True):
+                return i
+        return -1
+
     def rates(self, dq: np.ndarray, columns=None) -> np.ndarray:
         """Per geometry, a bound on how far any of its points moves along the motion ``dq``
         [m]: a full variable vector of changes, or the changes of the variables ``columns``
