@@ -382,7 +382,7 @@ class _EdgeChecker:
 
     def full(self, x: np.ndarray) -> np.ndarray:
         q = self._base.copy()
-        q[self._idx] = x
+        q[self._cols] = x
         if self._mimic:
             self._model.enforce_mimic(q)
         return q
@@ -488,7 +488,12 @@ class _EdgeChecker:
         if key in self._coarse_edges or key in self._fine_edges:
             return True
         d = b - a
-        t = self._coarse_params(self._coarse_segments(d))
+        # (the search's hot path: _coarse_segments and _coarse_params inlined)
+        dl = d.tolist()
+        n = max(1, math.ceil(max(max(dl), -min(dl)) / self.coarse - 1e-9))
+        t = self._coarse_t.get(n)
+        if t is None:
+            t = self._coarse_params(n)
         if kb in self._valid_states:
             t = t[1:]  # the end is known valid
         ok = self._check_params(a, d, t)
