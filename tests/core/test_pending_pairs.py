@@ -34,7 +34,8 @@ INTEGER_COSTS = ((0, 1, 2, 3), (0, 1, 2))
 ROUNDING_COSTS = ((0.1, 0.2, 0.3, 1e16), (0.0, 0.1, 0.2, 1.0))
 
 
-def _random_task(rng: random.Random, pruning: bool, cost_values=INTEGER_COSTS, max_states: int = 8):
+def _random_task(rng: random.Random, pruning: bool, cost_values=INTEGER_COSTS, max_states: int = 8,
+                 max_connects: int = 3):
     """A random serial task of generators, Connects and propagators with tied costs."""
     t = make_task()
     t.pruning = pruning
@@ -57,7 +58,7 @@ def _random_task(rng: random.Random, pruning: bool, cost_values=INTEGER_COSTS, m
     if rng.random() < 0.5:
         add(t, BackwardMockup(PredefinedCosts.constant(float(rng.choice([0, 1])))))
     add(t, GeneratorMockup(gen_costs(rng.randint(1, max_states)), rng.randint(1, 3)))
-    for _ in range(rng.randint(1, 3)):
+    for _ in range(rng.randint(1, max_connects)):
         add(t, LoggingConnect(con_costs()))
         if rng.random() < 0.3:
             add(t, BackwardMockup(PredefinedCosts.constant(float(rng.choice([0, 1, INF])))))
@@ -67,19 +68,23 @@ def _random_task(rng: random.Random, pruning: bool, cost_values=INTEGER_COSTS, m
     return t, log
 
 
-def _plan(seed: int, fast: bool, pruning: bool, switch: bool = False, **task_args):
-    """Plan a random task; ``switch``: allow the switch to the list on long ties (_DEEP_TIES)."""
-    saved = _PendingPairs.FAST, stage_module._DEEP_TIES
+def _plan(seed: int, fast: bool, pruning: bool, switch: bool = False, grouped: bool = True, **task_args):
+    """Plan a random task; ``switch``: allow the switch to the list on long ties (_DEEP_TIES);
+    ``grouped``: allow the grouped fast mode. Returns the Connects' calls, the solutions'
+    costs and the modes the Connects ended in (True: fast; with ``modes_grouped``, grouped)."""
+    saved = _PendingPairs.FAST, _PendingPairs.GROUPED, stage_module._DEEP_TIES
     _PendingPairs.FAST = fast
+    _PendingPairs.GROUPED = grouped
     if not switch:
         stage_module._DEEP_TIES = 10**9  # test the fast mode's order all the way
     try:
         t, log = _random_task(random.Random(seed), pruning, **task_args)
         t.plan()
-        modes = [s._pending._fast for s in t.stages if hasattr(s, "_pending")]
-        return log, costs(t.solutions), modes
+        pendings = [s._pending for s in t.stages if hasattr(s, "_pending")]
+        _plan.modes_grouped = [p._grouped for p in pendings]
+        return log, costs(t.solutions), [p._fast for p in pendings]
     finally:
-        _PendingPairs.FAST, stage_module._DEEP_TIES = saved
+        _PendingPairs.FAST, _PendingPairs.GROUPED, stage_module._DEEP_TIES = saved
 
 
 @pytest.mark.parametrize("seed", range(150))
@@ -186,3 +191,144 @@ def test_lazy_refresh_is_exercised():
             if hasattr(s, "_pending"):
                 events += sum(len(v) for v in s._pending._events.values())
     assert events > 100
+
+
+# --- the grouped fast mode (whole-number costs) and the plain fast mode ---------------------
+
+
+@pytest.mark.parametrize("seed", range(80))
+def test_plain_fast_mode_equals_exact(seed):
+    """The plain fast mode (taken when a cost may round) keeps the list's order with
+    whole-number costs too."""
+    for pruning in (False, True):
+        fast_log, fast_costs, modes = _plan(seed, True, pruning, grouped=False)
+        exact_log, exact_costs, _ = _plan(seed, False, pruning)
+        assert not any(_plan.modes_grouped)
+        assert fast_log == exact_log
+        assert fast_costs == exact_costs
+
+
+def test_whole_number_costs_keep_the_grouped_mode():
+    """Without pruning and with whole-number costs the Connects stay in the grouped mode (so
+    the comparisons above test it); costs that may round make them leave it."""
+    kept = []
+    for seed in range(40):
+        _plan(seed, True, False)
+        kept += _plan.modes_grouped
+    assert kept and all(kept)
+    left = []
+    for seed in range(40):
+        _plan(seed, True, False, cost_values=ROUNDING_COSTS)
+        left += _plan.modes_grouped
+    # (a Connect whose states all happened to get whole numbers stays grouped)
+    assert left and left.count(False) > 0.8 * len(left)
+
+
+MIXED_COSTS = ((0, 1, 2, 3, 0.1), (0, 1, 2, 0.3, 1e16))
+
+
+@pytest.mark.parametrize("seed", range(60))
+def test_leaving_the_grouped_mode_with_pairs_pending_keeps_the_order(seed):
+    """Whole-number costs first, then one that may round arrives while pairs are pending: the
+    plain fast mode takes over with the same order."""
+    for pruning in (False, True):
+        fast_log, fast_costs, _ = _plan(seed, True, pruning, cost_values=MIXED_COSTS, max_states=12)
+        exact_log, exact_costs, _ = _plan(seed, False, pruning, cost_values=MIXED_COSTS, max_states=12)
+        assert fast_log == exact_log
+        assert fast_costs == exact_costs
+
+
+def test_mixed_costs_leave_the_grouped_mode_midway():
+    """MIXED_COSTS do switch with pairs pending (so the test above covers the switch)."""
+    switched = 0
+    real = _PendingPairs._ungroup
+
+    def counting(self):
+        nonlocal switched
+        if self._grouped and self._count:
+            switched += 1
+        real(self)
+
+    _PendingPairs._ungroup = counting
+    try:
+        for seed in range(60):
+            _plan(seed, True, False, cost_values=MIXED_COSTS, max_states=12)
+    finally:
+        _PendingPairs._ungroup = real
+    assert switched > 10
+
+
+@pytest.mark.parametrize("seed", range(25))
+def test_grouped_mode_with_many_states_equals_exact(seed):
+    """Many states per generator: groups of many pairs, whose bounds from the best start
+    (not their pairs) are what the heap mostly holds. (One Connect: with more, the partial
+    solutions of such tasks run into millions.)"""
+    for pruning in (False, True):
+        fast_log, fast_costs, _ = _plan(seed, True, pruning, max_states=30, max_connects=1)
+        exact_log, exact_costs, _ = _plan(seed, False, pruning, max_states=30, max_connects=1)
+        assert fast_log == exact_log
+        assert fast_costs == exact_costs
+
+
+def test_grouped_bounds_are_exercised():
+    """The grouped mode's bounds are made, re-made when they surface, and given up for the
+    group's first pair (all three branches of _topGrouped)."""
+    made = []
+    real = _PendingPairs._bound
+
+    def counting(self, group):
+        bound = real(self, group)
+        made.append(bound is not None)
+        return bound
+
+    cascades = []
+    real_top = _PendingPairs._groupTop
+
+    def counting_top(self, group):
+        cascades.append(1)
+        return real_top(self, group)
+
+    _PendingPairs._bound = counting
+    _PendingPairs._groupTop = counting_top
+    try:
+        for seed in range(10):
+            _plan(seed, True, False, max_states=30, max_connects=1)
+            assert all(_plan.modes_grouped)  # (whole-number costs, no pruning)
+    finally:
+        _PendingPairs._bound = real
+        _PendingPairs._groupTop = real_top
+    assert sum(made) > 100
+    assert len(cascades) > 10
+
+
+def test_benchmark_pattern_in_grouped_mode_equals_exact():
+    """engine_bench's task, smaller: two generators of distinct whole-number costs and a
+    Connect, all pairs; the grouped mode and the list call the Connect in the same order."""
+
+    def order(fast: bool):
+        saved = _PendingPairs.FAST
+        _PendingPairs.FAST = fast
+        try:
+            t = make_task()
+            t.add(GeneratorMockup([float(i) for i in range(25)]))
+            calls = []
+
+            class LoggingConnect(ConnectMockup):
+                def compute(self, from_state, to_state):
+                    calls.append((from_state.priority, to_state.priority))
+                    super().compute(from_state, to_state)
+
+            con = LoggingConnect()
+            t.add(con)
+            t.add(GeneratorMockup([float(100 * i) for i in range(25)]))
+            t.plan()
+            return calls, costs(t.solutions), con._pending._grouped
+        finally:
+            _PendingPairs.FAST = saved
+
+    grouped_calls, grouped_costs, grouped = order(True)
+    exact_calls, exact_costs, _ = order(False)
+    assert grouped
+    assert len(grouped_calls) == 625
+    assert grouped_calls == exact_calls
+    assert grouped_costs == exact_costs

@@ -988,7 +988,7 @@ class PropagatingBackward(PropagatingEitherWay):
 class _Pair:
     """A pending (start, end) pair of a Connecting stage."""
 
-    __slots__ = ("start", "end", "key", "entry", "vs", "ve", "es", "ee", "alive")
+    __slots__ = ("start", "end", "key", "entry", "vs", "ve", "es", "ee", "alive", "rel", "rvs")
 
     def __init__(self, start: InterfaceState, end: InterfaceState):
         self.start = start
@@ -1000,6 +1000,8 @@ class _Pair:
         self.es = None  # the event lists of start and end (fast mode)
         self.ee = None
         self.alive = True
+        self.rel = None  # grouped fast mode: the order value within its end state's group
+        self.rvs = 0  # number of events of start seen by rel
 
     def __iter__(self):
         yield self.start
@@ -1104,6 +1106,41 @@ _walked = [0]
 _DEEP_TIES = 2000
 
 
+class _NoEnd:
+    """The end side of a pair's order value within its end state's group: no priority, no
+    events (the group's pairs share the end, so it never changes their order there)."""
+
+    __slots__ = ()
+    _priority = (0, 0, 0.0)
+
+
+_NO_END = _NoEnd()
+_NO_EVENTS: tuple = ()
+
+# Costs up to this size that are whole numbers add up without rounding (2**51 + 2**51 still
+# has an exact double): the grouped fast mode of _PendingPairs relies on exact sums.
+_EXACT_COST = float(2**51)
+
+
+def _exact_cost(cost) -> bool:
+    """Whether ``cost`` is a whole number of at most :data:`_EXACT_COST` (inf, nan: no)."""
+    return -_EXACT_COST <= cost <= _EXACT_COST and cost == int(cost)
+
+
+class _Group:
+    """The pending pairs of one end state (grouped fast mode): a lazy heap of their order
+    values within the group (``_Pair.rel``), and the group's bound in the pending pairs' heap
+    while it has one there."""
+
+    __slots__ = ("end", "heap", "live", "bound")
+
+    def __init__(self, end: InterfaceState):
+        self.end = end
+        self.heap: list = []
+        self.live = 0
+        self.bound: tuple | None = None
+
+
 def _prio_at(events: list, state: InterfaceState, version: int) -> tuple:
     """(-depth, cost) of ``state`` before its event number ``version`` (now if none)."""
     if version < len(events):
@@ -1156,13 +1193,22 @@ class _PendingPairs:
       only if it improved them, otherwise lazily when one of them reaches the top (a stale
       entry is never better than the true value, so the top entry, once refreshed, is the
       front).
+    * grouped fast mode (the fast mode while every cost is a whole number, see
+      :func:`_exact_cost`): the pairs of one end state form a group. With exact sums, a
+      priority change of the end moves all of its pairs alike, so their order among each
+      other is that of a list of their start priorities alone, sorted in the same way
+      (``_Pair.rel``, the same order values without the end's part). Each group keeps a lazy
+      heap of those, and the heap holds the order value of each group's first pair only: a
+      change of an end state re-keys one entry instead of all of its pairs. Left for the plain
+      fast mode for good when a cost that may round arrives.
     * exact mode (entered for good on any status change, silent priority change or foreign
       pair): the plain list with the C++ algorithms on current keys, also reproducing
       MTC's list when it is not sorted.
     """
 
     __slots__ = ("_owner", "_fast", "_heap", "_t", "_events", "_known", "_count",
-                 "_pairs", "_keys", "_sorted", "_by_state", "_foreign", "_front")
+                 "_pairs", "_keys", "_sorted", "_by_state", "_foreign", "_front",
+                 "_grouped", "_groups", "_floor", "_best_starts", "_seq")
 
     def __init__(self, owner: "Connecting"):
         self._owner = owner
@@ -1172,8 +1218,15 @@ class _PendingPairs:
         if getattr(self, "_by_state", None):
             for pairs in self._by_state.values():
                 for p in pairs:
-                    p.entry = None  # (its chain of old values refers back to the pair)
+                    p.entry = p.rel = None  # (their chains of old values refer back to the pair)
         self._fast = _PendingPairs.FAST
+        self._grouped = self._fast and _PendingPairs.GROUPED
+        self._groups: dict[InterfaceState, _Group] = {}  # end state -> its pairs (grouped mode)
+        self._floor = 0  # grouped mode: the heap's size after its last clean-up
+        # grouped mode: (-depth, cost, n, start state) of start states, a lazy heap (entries
+        # of changed states and of states without pairs are dropped when they surface)
+        self._best_starts: list = []
+        self._seq = 0
         self._heap: list = []
         self._front: _Pair | None = None  # the verified front pair while nothing changes
         self._t = 0
@@ -1190,6 +1243,8 @@ class _PendingPairs:
 
     #: use the fast mode when possible (tests switch it off to compare both modes)
     FAST = True
+    #: use the grouped fast mode when possible (tests switch it off to compare the modes)
+    GROUPED = True
 
     def __len__(self) -> int:
         return self._count if self._fast else len(self._pairs)
@@ -1359,10 +1414,158 @@ class _PendingPairs:
         heappush(self._heap, pair.entry)
         self._front = None
 
+    # --- grouped fast mode ------------------------------------------------------------------
+    @staticmethod
+    def _refreshRel(pair: _Pair) -> bool:
+        """Apply the start's changes not yet seen by ``pair.rel`` (its order value within its
+        group: :meth:`_refresh` without the end); True if it changed.
+
+        Every recorded event changes the start's (-depth, cost), so the newest one decides.
+        """
+        es = pair.es
+        ns = len(es)
+        i0 = pair.rvs
+        if i0 == ns:
+            return False
+        t, bd, bc, ad, ac = es[ns - 1]
+        i = ns - 1
+        old = (_new_tuple(_Before, (pair.rel,)) if i == i0 else
+               _new_tuple(_Before, (es, _NO_EVENTS, pair.start, _NO_END, pair.rel, i0, 0, i, 0)))
+        pair.rel = (ad, ac, -t if bd < ad or (bd == ad and bc < ac) else t, bd, bc, old, pair)
+        pair.rvs = ns
+        return True
+
+    def _groupTop(self, group: _Group) -> _Pair | None:
+        """The first pair of ``group`` (its lazy heap's top, refreshed), None if none."""
+        heap = group.heap
+        refresh = self._refreshRel
+        while heap:
+            entry = heap[0]
+            pair = entry[-1]
+            if pair.rel is not entry:
+                heappop(heap)  # superseded or popped
+            elif pair.rvs != len(pair.es) and refresh(pair):
+                heapreplace(heap, pair.rel)
+            else:
+                return pair
+        return None
+
+    def _topGrouped(self) -> _Pair | None:
+        """:meth:`_top` of the grouped mode.
+
+        The heap holds, for every group, an entry no later than the order value of its first
+        pair: that pair's order value (stale values are never too late: their states only got
+        worse since, or they were re-keyed), or a bound ``(-depth, cost, -inf, n, group)``
+        from the best priority any start state with pending pairs has (:meth:`_groupEntry`).
+        """
+        heap = self._heap
+        groups = self._groups
+        walked = _walked[0]
+        while heap:
+            entry = heap[0]
+            if len(entry) == 5:  # a group's bound: now its first pair is needed
+                group = entry[4]
+                if group.bound is not entry:
+                    heappop(heap)
+                    continue
+                bound = self._bound(group)  # the start priorities may have got worse since
+                if bound is not None and (bound[0] > entry[0] or (bound[0] == entry[0] and bound[1] > entry[1])):
+                    heapreplace(heap, bound)
+                    continue
+                group.bound = None
+                top = self._groupTop(group)
+                self._refresh(top)
+                heapreplace(heap, top.entry)
+                continue
+            pair = entry[-1]
+            if pair.entry is not entry:
+                heappop(heap)  # superseded or popped
+                continue
+            group = groups[pair.end]
+            gheap = group.heap
+            if gheap[0] is not pair.rel or pair.rvs != len(pair.es):
+                # perhaps no longer its group's first (its start got worse)
+                heapreplace(heap, self._groupEntry(group))
+                continue
+            if (pair.vs != len(pair.es) or pair.ve != len(pair.ee)) and self._refresh(pair):
+                heapreplace(heap, pair.entry)
+                continue
+            if _walked[0] - walked > _DEEP_TIES:
+                self._toExact()  # long ties: see _DEEP_TIES
+                return self._pairs[0]
+            self._front = pair
+            return pair
+        return None
+
+    def _groupEntry(self, group: _Group) -> tuple:
+        """An entry for the heap no later than the order value of ``group``'s first pair (the
+        group has pairs): that value if the top of the group's heap is up to date, else a
+        bound from the best start priority (sums are exact in the grouped mode: no pair of
+        the group is before it), else the value found by refreshing the group's heap."""
+        gheap = group.heap
+        while True:
+            entry = gheap[0]
+            pair = entry[-1]
+            if pair.rel is not entry:
+                heappop(gheap)  # superseded
+                continue
+            if pair.rvs == len(pair.es):
+                self._refresh(pair)
+                return pair.entry
+            break
+        bound = self._bound(group)
+        if bound is not None:
+            return bound
+        top = self._groupTop(group)
+        self._refresh(top)
+        return top.entry
+
+    def _bound(self, group: _Group) -> tuple | None:
+        """A bound for ``group`` (see :meth:`_topGrouped`), now its entry; None if there is no
+        start state to take it from."""
+        starts = self._best_starts
+        by_state = self._by_state
+        while starts:
+            d, c, _n, state = starts[0]
+            prio = state._priority
+            if prio[1] != d or prio[2] != c or state not in by_state:
+                heappop(starts)  # stale, or no pairs left
+                continue
+            prio = group.end._priority
+            self._seq += 1
+            bound = group.bound = (d + prio[1], c + prio[2], -math.inf, self._seq, group)
+            return bound
+        return None
+
+    def _noteStart(self, state: InterfaceState) -> None:
+        """Keep the priority of a start state (grouped mode) for the bounds of :meth:`_groupEntry`."""
+        prio = state._priority
+        self._seq += 1
+        heappush(self._best_starts, (prio[1], prio[2], self._seq, state))
+
+    def _ungroup(self) -> None:
+        """Leave the grouped mode for the plain fast mode for good (a cost that may round)."""
+        if not self._grouped:
+            return
+        self._grouped = False
+        self._groups = {}
+        self._best_starts = []
+        self._front = None
+        heap = []
+        for p in self._by_pairs():
+            p.rel = None
+            if p.alive:
+                self._refresh(p)
+                heap.append(p.entry)
+        heapify(heap)
+        self._heap = heap
+
     def _top(self) -> _Pair | None:
         front = self._front
         if front is not None:
             return front  # nothing happened since it was found
+        if self._grouped:
+            return self._topGrouped()
         heap = self._heap
         walked = _walked[0]
         while heap:
@@ -1398,9 +1601,16 @@ class _PendingPairs:
             self._events[state] = [event]  # (no pair holds its list yet)
         else:
             events.append(event)
+        if self._grouped:
+            if not _exact_cost(new[2]):
+                self._ungroup()  # (after recording the event: the refreshes see it)
+            elif state._owner is self._owner._starts:
+                self._noteStart(state)
         # depth decides first (larger is better), then cost (smaller is better)
         better = new[1] < old[1] or (new[1] == old[1] and new[2] < old[2])
-        if better:
+        if better and self._grouped:
+            self._improvedGrouped(state)
+        elif better:
             walked = _walked[0]
             for p in self._by_state.get(state, ()):
                 if self._refresh(p):
@@ -1408,18 +1618,40 @@ class _PendingPairs:
             if _walked[0] - walked > _DEEP_TIES:
                 self._toExact()  # long ties: see _DEEP_TIES
 
+    def _improvedGrouped(self, state: InterfaceState) -> None:
+        """Re-key what a better priority of ``state`` improved (grouped mode): for an end, its
+        group's entry; for a start, its pairs within their groups, each also in the heap
+        (one of them may now be its group's first)."""
+        heap = self._heap
+        walked = _walked[0]
+        group = self._groups.get(state)
+        if group is not None:  # an end state: its pairs keep their order among each other
+            heappush(heap, self._groupEntry(group))
+        else:
+            groups = self._groups
+            for p in self._by_state.get(state, ()):
+                if self._refreshRel(p):
+                    heappush(groups[p.end].heap, p.rel)
+                self._refresh(p)
+                heappush(heap, p.entry)
+        if _walked[0] - walked > _DEEP_TIES:
+            self._toExact()  # long ties: see _DEEP_TIES
+
     def _toExact(self) -> None:
         """Switch to the exact list mode for good."""
         if not self._fast:
             return
         pairs = self.ordered()
         self._fast = False
+        self._grouped = False
+        self._groups = {}
+        self._best_starts = []
         self._front = None
         self._heap = []
         self._events = {}
         self._known = {}
         for p in pairs:
-            p.entry = None  # (its chain of old values refers back to the pair)
+            p.entry = p.rel = None  # (their chains of old values refer back to the pair)
             p.key = _pair_key(p)  # the exact mode's keys include the status
         self._pairs = pairs
         self._keys = [p.key for p in pairs]
@@ -1429,10 +1661,13 @@ class _PendingPairs:
     def noteState(self, state: InterfaceState) -> None:
         """A new state arrived in one of the owner's interfaces."""
         if self._fast:
-            if state._priority[0] != 0:
+            prio = state._priority
+            if prio[0] != 0:
                 self._toExact()
             else:
-                self._known[state] = state._priority
+                self._known[state] = prio
+                if self._grouped and not _exact_cost(prio[2]):
+                    self._ungroup()
 
     def insert(self, start: InterfaceState, end: InterfaceState) -> _Pair:
         pair = _Pair(start, end)
@@ -1460,8 +1695,25 @@ class _PendingPairs:
             pair.ee = ee
             pair.vs = len(es)
             pair.ve = len(ee)
-            self._push(pair)
             self._count += 1
+            if self._grouped:
+                if start not in self._by_state:
+                    self._noteStart(start)  # (dropped from the bounds while it had no pairs)
+                rel = pair.rel = (ps[1], ps[2], self._t, pair)
+                pair.rvs = pair.vs
+                group = self._groups.get(end)
+                if group is None:
+                    group = self._groups[end] = _Group(end)
+                gheap = group.heap
+                # no entry needed if the group's first pair is known and comes first
+                first = gheap[0][-1] if gheap else None
+                heappush(gheap, rel)
+                group.live += 1
+                self._front = None
+                if first is None or first.rel is not gheap[0] or first.rvs != len(first.es):
+                    heappush(self._heap, pair.entry)
+            else:
+                self._push(pair)
         elif self._sorted:
             key = _pair_key(pair)
             pair.key = key
@@ -1504,7 +1756,9 @@ class _PendingPairs:
             pair.entry = None
             self._front = None
             self._count -= 1
-            if len(heap) > 2 * self._count + 256:
+            if self._grouped:
+                self._popGrouped(pair)
+            elif len(heap) > 2 * self._count + 256:
                 # drop superseded entries (and the seqs they hold) that would otherwise
                 # stay until they surface; the live entries keep their order
                 heap = self._heap = [e for e in heap if e[-1].entry is e]
@@ -1516,6 +1770,30 @@ class _PendingPairs:
         pair.alive = False
         self._unregister(pair)
         return pair
+
+    def _popGrouped(self, pair: _Pair) -> None:
+        """Take ``pair`` (the front, its entry already popped) from its group; the group's
+        next pair takes its place in the heap."""
+        group = self._groups[pair.end]
+        heap = group.heap
+        heappop(heap)  # (the front is its group's first: its rel tops the group's heap)
+        pair.rel = None
+        group.live -= 1
+        if not group.live:
+            del self._groups[pair.end]
+            group.bound = None
+            return
+        if len(heap) > 2 * group.live + 64:
+            heap = group.heap = [e for e in heap if e[-1].rel is e]  # drop superseded values
+            heapify(heap)
+        heappush(self._heap, self._groupEntry(group))
+        if len(self._heap) > 2 * self._floor + 256:
+            # drop superseded entries (the others may be needed: a group's first pair can
+            # change back to a pair that has one)
+            live = [e for e in self._heap if (e[4].bound if len(e) == 5 else e[-1].entry) is e]
+            heapify(live)
+            self._heap = live
+            self._floor = len(live)
 
     def pairsOf(self, state: InterfaceState) -> list[_Pair]:
         """Pending pairs containing ``state``, in list order."""
