@@ -322,6 +322,46 @@ def test_plain_attributes_unaffected():
         stage.nothing  # noqa: B018
 
 
+def test_property_declared_later_is_an_attribute_of_that_instance_only():
+    """A property declared on one instance reads and writes as its attribute; another
+    instance of the same class keeps an ordinary attribute of that name."""
+    declaring, plain = GeneratorMockup(), GeneratorMockup()
+    plain.late_value = "plain"  # before the name is a property anywhere
+    declaring.properties.declare("late_value", 1.5, "declared after construction")
+    assert declaring.late_value == 1.5
+    declaring.late_value = 2
+    assert declaring.properties["late_value"] == 2.0
+    with pytest.raises(TypeError):
+        declaring.late_value = "text"
+    assert declaring.properties["late_value"] == 2.0  # (a rejected value changes nothing)
+    assert plain.late_value == "plain"
+    plain.late_value = [1]
+    assert plain.late_value == [1] and "late_value" not in plain.properties
+    del plain.late_value
+    with pytest.raises(AttributeError, match="has no attribute 'late_value'"):
+        plain.late_value  # noqa: B018
+    with pytest.raises(AttributeError, match="has no attribute 'late_value'"):
+        GeneratorMockup().late_value  # noqa: B018
+
+
+def test_class_attributes_and_private_names_are_never_properties():
+    class WithClassValue(GeneratorMockup):
+        shadowed = "class value"
+
+        def method(self):
+            return "method"
+
+    stage = WithClassValue()
+    for name in ("shadowed", "method", "_private"):
+        stage.properties.declare(name, 1.0)
+    assert stage.shadowed == "class value"
+    assert stage.method() == "method"
+    with pytest.raises(AttributeError):
+        stage._private  # noqa: B018
+    stage.shadowed = "instance value"  # an ordinary attribute, the property is untouched
+    assert stage.shadowed == "instance value" and stage.properties["shadowed"] == 1.0
+
+
 # --- inheritance in a task -------------------------------------------------------------------
 
 

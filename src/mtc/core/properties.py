@@ -365,10 +365,13 @@ class Property:
 class PropertyMap:
     """Properties by name, iterated in name order (MTC's ``PropertyMap``)."""
 
-    __slots__ = ("_props",)
+    __slots__ = ("_props", "_owner_type")
 
     def __init__(self, values: dict | None = None):
         self._props: dict[str, Property] = {}
+        # the class whose instances read this map's properties as attributes (see
+        # TypedPropertyAccess): a declared name becomes an attribute of that class
+        self._owner_type: type | None = None
         if values:
             self.update(values)
 
@@ -406,6 +409,8 @@ class PropertyMap:
             e.setName(name)
             raise
         self._props[name] = p
+        if self._owner_type is not None:
+            _install_attribute(self._owner_type, name)
         return p
 
     def hasProperty(self, name: str) -> bool:
@@ -485,6 +490,7 @@ class PropertyMap:
         """An independent copy (properties are copied, values are shared)."""
         m = PropertyMap.__new__(PropertyMap)
         m._props = {k: p._copy() for k, p in self._props.items()}
+        m._owner_type = None
         return m
 
     # --- initialization ---------------------------------------------------------------
@@ -597,42 +603,82 @@ class PropertyMap:
 class TypedPropertyAccess:
     """Mixin: declared properties read and written as attributes (``stage.timeout = 5``).
 
-    The instance keeps its map in ``self._properties``. Reading an attribute that is a declared
-    property returns its value (an undefined one raises :class:`UndefinedPropertyError`);
-    writing one type-checks it (``TypeError`` on mismatch). Names starting with ``_`` and
-    names defined on the class are never treated as properties.
+    The instance keeps its map in ``self._properties``, made by :meth:`_newProperties`.
+    Reading an attribute that is a declared property returns its value (an undefined one
+    raises :class:`UndefinedPropertyError`); writing one type-checks it (``TypeError`` on
+    mismatch). Names starting with ``_`` and names defined on the class are never treated
+    as properties.
+
+    A declared name becomes a data descriptor of the instance's class (:class:`_PropertyAttribute`)
+    rather than being resolved by ``__getattr__``/``__setattr__``: with those hooks on the
+    class, every attribute access of every stage would take Python's slow generic path.
     """
 
     # property name -> function(value) -> attribute value (e.g. sets shown as sorted lists)
     _attribute_getters: dict = {}
 
-    def __getattr__(self, name: str):
-        # only called when normal lookup failed
-        if name[0] == "_":
-            raise AttributeError(name)
-        props = self.__dict__.get("_properties")
-        if props is not None:
-            p = props._props.get(name)
-            if p is not None:
-                value = props.get(name)
-                getter = self._attribute_getters.get(name)
-                return getter(value) if getter else value
-        raise AttributeError(f"'{type(self).__name__}' object has no attribute '{name}'")
+    def _newProperties(self) -> PropertyMap:
+        """An empty property map whose declared names are attributes of this object."""
+        props = PropertyMap()
+        props._owner_type = type(self)
+        return props
 
-    def __setattr__(self, name: str, value) -> None:
-        if name[0] != "_":
-            props = self.__dict__.get("_properties")
-            p = props._props.get(name) if props is not None else None
-            if p is not None and not hasattr(type(self), name):
-                if value is None and p._type is not None:
-                    raise TypeError(f"property '{name}' expects {_type_name(p._type)}, got None")
-                try:
-                    p.setValue(value)
-                except PropertyError as e:
-                    e.setName(name)
-                    raise
-                return
-        object.__setattr__(self, name, value)
+
+class _PropertyAttribute:
+    """The attribute of a property name on a :class:`TypedPropertyAccess` class. Instances
+    that declare the property read and write it; others keep a plain attribute of that name."""
+
+    __slots__ = ("_name",)
+
+    def __init__(self, name: str):
+        self._name = name
+
+    def __get__(self, obj, objtype=None):
+        if obj is None:
+            return self
+        name = self._name
+        d = obj.__dict__
+        props = d.get("_properties")
+        if props is not None and name in props._props:
+            value = props.get(name)
+            getter = obj._attribute_getters.get(name)
+            return getter(value) if getter else value
+        try:
+            return d[name]
+        except KeyError:
+            raise AttributeError(f"'{type(obj).__name__}' object has no attribute '{name}'") from None
+
+    def __set__(self, obj, value) -> None:
+        name = self._name
+        props = obj.__dict__.get("_properties")
+        p = props._props.get(name) if props is not None else None
+        if p is None:
+            obj.__dict__[name] = value
+            return
+        if value is None and p._type is not None:
+            raise TypeError(f"property '{name}' expects {_type_name(p._type)}, got None")
+        try:
+            p.setValue(value)
+        except PropertyError as e:
+            e.setName(name)
+            raise
+
+    def __delete__(self, obj) -> None:
+        try:
+            del obj.__dict__[self._name]
+        except KeyError:
+            raise AttributeError(self._name) from None
+
+
+def _install_attribute(cls: type, name: str) -> None:
+    """Make the property ``name`` an attribute of ``cls``, unless the name is private or
+    ``cls`` (or a base) already defines it (as a property attribute or otherwise)."""
+    if not name or name[0] == "_":
+        return
+    for klass in cls.__mro__:
+        if name in klass.__dict__:
+            return
+    setattr(cls, name, _PropertyAttribute(name))
 
 
 # MTC's C++ names of the property errors (Property::error, Property::undeclared, ...)

@@ -236,7 +236,7 @@ class Stage(TypedPropertyAccess):
             raise TypeError(f"stage name must be a str, got {type(name).__name__}")
         self._name = name
         self._parent = None
-        self._properties = PropertyMap()
+        self._properties = self._newProperties()
         self._cost_term: CostTerm | None = None  # None: keep the stage's cost (plain CostTerm)
         self._solutions = Solutions()
         self._failures: list[SolutionBase] = []
@@ -513,9 +513,7 @@ class Stage(TypedPropertyAccess):
         except PropertyError as e:
             raise RuntimeError(str(e) + self._composePropertyErrorMsg(e.name)) from None
         finally:
-            # written through __dict__: a plain attribute write would go through
-            # TypedPropertyAccess.__setattr__, a Python call on this hot path
-            self.__dict__["_total_compute_time"] += _perf_counter() - start
+            self._total_compute_time += _perf_counter() - start
 
     def _composePropertyErrorMsg(self, property_name: str) -> str:
         """Where ``property_name`` is (un)defined, from this stage up to the root (MTC's texts)."""

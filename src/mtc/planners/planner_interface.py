@@ -194,7 +194,7 @@ class PlannerInterface(TypedPropertyAccess, ABC):
     """
 
     def __init__(self):
-        self._properties = PropertyMap()
+        self._properties = self._newProperties()
         self._robot_model: RobotModel | None = None
         p = self._properties
         p.declare("timeout", math.inf, "timeout for planner (s)", convert=_non_negative("timeout"))
