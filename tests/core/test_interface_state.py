@@ -222,6 +222,30 @@ def test_connect_compatible():
     assert not compatible(scene, other), "different number of objects"
 
 
+def test_connect_compatible_shortcuts_stay_exact():
+    """Scenes without objects, and scenes sharing their objects with the one they were made
+    from, are compatible without a comparison; a later change of either side is still seen."""
+    from mtc import msgs
+
+    connect = ConnectMockup()
+
+    def compatible(a, b):
+        return connect.compatible(InterfaceState(a), InterfaceState(b))
+
+    empty, other_empty = new_scene(), new_scene()
+    assert compatible(empty, other_empty)
+    scene = new_scene()
+    _spawn_object(scene, "object", msgs.SolidPrimitive.CYLINDER)
+    assert not compatible(empty, scene) and not compatible(scene, empty)
+    child = scene.diff()
+    assert compatible(scene, child)
+    _spawn_object(scene, "object", msgs.SolidPrimitive.CYLINDER, (0.1, 0, 0))  # the parent moves it
+    assert not compatible(scene, child) and not compatible(child, scene)
+    child = scene.diff()
+    child.attach_object("object", "tip")
+    assert not compatible(scene, child)
+
+
 def test_connect_compatible_attached_pose():
     """Attached objects must sit at the same pose relative to their link."""
     from mtc import msgs

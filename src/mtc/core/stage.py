@@ -1600,7 +1600,8 @@ class _PendingPairs:
         else:
             events.append(event)
         if self._grouped:
-            if not _exact_cost(new[2]):
+            cost = new[2]
+            if not (-_EXACT_COST <= cost <= _EXACT_COST and cost == int(cost)):  # _exact_cost, inlined
                 self._ungroup()  # (after recording the event: the refreshes see it)
             elif state._owner is self._owner._starts:
                 self._noteStart(state)
@@ -2059,7 +2060,7 @@ def _close(a, b, tol: float = 1e-4) -> bool:
 
 def scenes_compatible(a, b, name: str = "") -> bool:
     """MTC's ``Connecting::compatible`` on two planning scenes (reasons logged at debug level)."""
-    if a is b:
+    if a is b or a._same_objects(b):
         return True
     a_names = list(a.world_object_names)
     b_names = set(b.world_object_names)

@@ -704,6 +704,14 @@ class PlanningScene:
         child.parent = None
         return child
 
+    def _same_objects(self, other: PlanningScene) -> bool:
+        """Whether both scenes certainly hold the same world and attached objects: none, or
+        one scene was made from the other (or both from a third) and neither changed its
+        objects since. A cheap test for Connecting's compatibility check; False does not
+        mean they differ."""
+        return (self._world_token is other._world_token or not (self._world or other._world)) and (
+            self._attached_token is other._attached_token or not (self._attached or other._attached))
+
     # copy-on-write helpers
     # (callers change the returned dict right away, so the token is renewed here)
     def _own_world(self) -> dict:
