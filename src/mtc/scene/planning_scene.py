@@ -175,11 +175,13 @@ def _geometry_motion_row(model: RobotModel, go) -> tuple[np.ndarray, np.ndarray]
     """(bound per variable on how far any point of the geometry object moves per unit change
     of the variable, whether the variable's joint is above it) for one geometry object.
 
-    A revolute joint moves a point by at most its distance from the joint's axis, bounded by
-    the triangle inequality along the chain: the first offset without its component along
-    the axis, the further joint offsets (prismatic joints: plus their largest travel), the
-    geometry's offset and its radius about its own frame. A prismatic joint moves it by its
-    own change. Other joint types: inf.
+    A revolute joint moves a point by at most its distance from the joint's axis. For the
+    geometry's own joint that is the largest distance of its hull (:func:`_hull_points`) from
+    the axis, exactly; for the joints above, it is bounded by the triangle inequality along
+    the chain: the first offset without its component along the axis, the further joint
+    offsets (prismatic joints: plus their largest travel) and the distance of the hull's
+    farthest point from its own joint's origin. A prismatic joint moves it by its own change.
+    Other joint types: inf.
     """
     pm = model.pinocchio_model
     joints = pm.joints
@@ -188,11 +190,12 @@ def _geometry_motion_row(model: RobotModel, go) -> tuple[np.ndarray, np.ndarray]
     jg = int(go.parentJoint)
     if jg == 0:
         return row, anc
-    geom = go.geometry
-    geom.computeLocalAABB()
-    lo, hi = np.asarray(geom.aabb_local.min_), np.asarray(geom.aabb_local.max_)
-    radius = float(np.linalg.norm(np.maximum(np.abs(lo), np.abs(hi))))
-    offset = np.asarray(go.placement.translation, dtype=float)
+    # points of the geometry's hull in the joint's frame, and how far the geometry reaches
+    # beyond their hull (see _hull_points)
+    pts, extra = _hull_points(go.geometry)
+    P = go.placement
+    pts = pts @ np.asarray(P.rotation, dtype=float).T + np.asarray(P.translation, dtype=float)
+    reach_own = float(np.linalg.norm(pts, axis=1).max()) + extra  # from the joint's origin
 
     def travel(j: int) -> float:
         if joints[j].shortname() not in _PRISMATIC:
@@ -203,7 +206,7 @@ def _geometry_motion_row(model: RobotModel, go) -> tuple[np.ndarray, np.ndarray]
     chain = [int(j) for j in pm.supports[jg]][1:]  # joints from the root down to jg
     # reach[n]: bound on the distance from joint chain[n]'s origin to the geometry, without
     # the first offset (kept apart to drop its component along the axis)
-    tail = float(np.linalg.norm(offset)) + radius
+    tail = reach_own
     for n, j in enumerate(chain):
         v = joints[j].idx_q
         anc[v] = True
@@ -220,12 +223,48 @@ def _geometry_motion_row(model: RobotModel, go) -> tuple[np.ndarray, np.ndarray]
             reach = travel(rest[0]) + tail
             reach += sum(float(np.linalg.norm(pm.jointPlacements[k].translation)) + travel(k) for k in rest[1:])
         else:
-            first, reach = offset, radius
+            # the geometry's own joint: the largest distance of its hull from the axis (a
+            # convex function of the point, so largest at a hull point), exactly
+            axis = _joint_axis(joints[j])
+            if axis is None:
+                row[v] = reach_own
+            else:
+                radial = pts - np.outer(pts @ axis, axis)
+                row[v] = float(np.linalg.norm(radial, axis=1).max()) + extra
+            continue
         axis = _joint_axis(joints[j])
         if axis is not None:
             first = first - first.dot(axis) * axis
         row[v] = reach + float(np.linalg.norm(first))
     return row, anc
+
+
+def _hull_points(geom) -> tuple[np.ndarray, float]:
+    """(points in the geometry's frame, margin): every point of the geometry lies within
+    ``margin`` of the convex hull of the points. Convex meshes: their vertices; boxes: their
+    corners; spheres and capsules: their centre (segment) with the radius as margin; anything
+    else: the corners of its local bounding box. Coal's swept-sphere radius is added."""
+    swept = float(geom.getSweptSphereRadius()) if hasattr(geom, "getSweptSphereRadius") else 0.0
+    if isinstance(geom, coal.Sphere):
+        return np.zeros((1, 3)), float(geom.radius) + swept
+    if isinstance(geom, coal.Capsule):
+        h = float(geom.halfLength)
+        return np.array([[0.0, 0.0, -h], [0.0, 0.0, h]]), float(geom.radius) + swept
+    if isinstance(geom, coal.ConvexBase):
+        pts = np.asarray(geom.points(), dtype=float).reshape(-1, 3)
+        if len(pts) and np.all(np.isfinite(pts)):
+            return pts, swept
+    if isinstance(geom, coal.Box):
+        h = np.asarray(geom.halfSide, dtype=float)
+    else:
+        geom.computeLocalAABB()
+        lo, hi = np.asarray(geom.aabb_local.min_, dtype=float), np.asarray(geom.aabb_local.max_, dtype=float)
+        c, h = (lo + hi) / 2, (hi - lo) / 2
+        return c + _CORNERS * h, swept
+    return _CORNERS * h, swept
+
+
+_CORNERS = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float)
 
 
 def _motion_model(model: RobotModel, B_own: np.ndarray, anc: np.ndarray):
