@@ -419,3 +419,22 @@ def test_continuous_joints_start_at_the_start_values():
     np.testing.assert_allclose(traj[0].positions, start.positions)
     assert traj[-1].distance(goal, "group") == pytest.approx(0.0, abs=1e-9)
     assert np.abs(np.diff(traj.positions, axis=0)).max() < 0.5  # no jump of a full turn
+
+
+def test_waypoints_carry_the_start_states_attached_objects(pipeline, ready_scene, add_box):
+    """As MoveIt's waypoints (copies of the start state): an object attached at the start is
+    known to every waypoint, so its frame can be read along the trajectory (MTC's
+    test_move_relative reads getWayPoint(i).getFrameTransform(object))."""
+    add_box(ready_scene, "held", (0.31, 0.0, 0.45), (0.03, 0.03, 0.03))
+    ready_scene.attach_object("held", "panda_hand", touch_links=["panda_hand", "panda_leftfinger", "panda_rightfinger"])
+    start = ready_scene.current_state.copy()
+    goal = _state(ready_scene, panda_joint1=0.8)
+    result, traj = pipeline.plan_joint(ready_scene, start, goal, ARM, seed=0)
+    assert result, result.message
+    hand = [wp.get_frame_transform("panda_hand") for wp in traj]
+    held = [wp.get_frame_transform("held") for wp in traj]
+    # the object rides with the hand: the same relative transform at every waypoint
+    rel0 = np.linalg.inv(hand[0]) @ held[0]
+    for h, o in zip(hand, held):
+        np.testing.assert_allclose(np.linalg.inv(h) @ o, rel0, atol=1e-9)
+    assert not np.allclose(held[0], held[-1])

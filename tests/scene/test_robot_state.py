@@ -427,3 +427,23 @@ def test_mimic_multiplier_and_offset():
     np.testing.assert_allclose(s.get_jacobian("g", "b", reference_point=point), _numeric_jacobian(s, "g", "b", point=point), atol=2e-5)
     other = RobotState(model)
     assert s.distance(other) == pytest.approx(0.5)  # followers do not count
+
+
+def test_interpolated_and_copied_states_see_attached_objects(panda):
+    """As MoveIt's state copies carry attached bodies: a state interpolated from (or copied
+    from) a scene's state knows the objects attached in that scene."""
+    from mtc.scene.planning_scene import PlanningScene
+
+    scene = PlanningScene(panda)
+    box = msgs.CollisionObject(id="held", header=msgs.Header(frame_id="panda_hand"))
+    box.primitives = [msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.02, 0.02, 0.02])]
+    box.primitive_poses = [msgs.Pose(position=msgs.Point(z=0.1))]
+    scene.apply_collision_object(box)
+    scene.attach_object("held", "panda_hand")
+    a = scene.current_state
+    b = a.copy()
+    b.set_variable_positions({"panda_joint1": 1.0})
+    mid = a.interpolate(b, 0.5)
+    for s in (b, mid):
+        rel = np.linalg.inv(s.get_frame_transform("panda_hand")) @ s.get_frame_transform("held")
+        np.testing.assert_allclose(rel[:3, 3], [0.0, 0.0, 0.1], atol=1e-12)

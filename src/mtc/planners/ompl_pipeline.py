@@ -1286,9 +1286,11 @@ class OMPLPipeline:
         positions = np.asarray(dense, dtype=float) + req.turns
         base = req.base.copy()
         base[req.group.variable_indices] = positions[0]
-        traj = RobotTrajectory.from_positions(model, req.group.name, RobotState(model, base), positions)
+        # waypoints are the start state's copies: they carry its attached objects
+        reference = req.start._with_positions(base)
+        traj = RobotTrajectory.from_positions(model, req.group.name, reference, positions)
         if req.original_start is not None:
-            traj.add_prefix_waypoint(RobotState(model, req.original_start))
+            traj.add_prefix_waypoint(req.start._with_positions(np.array(req.original_start, dtype=float)))
         self.last_stats.path_length = _path_length(np.asarray(path))
         self._finish_stats(req)
         return _result(True, ""), traj

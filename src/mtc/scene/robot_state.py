@@ -187,13 +187,18 @@ class RobotState:
             keep = np.ones(q.size, dtype=bool)
             keep[self._group(group).variable_indices] = False
             q[keep] = self._q[keep]
-        return RobotState(self._model, q)
+        return self._with_positions(q)
 
     def copy(self) -> RobotState:
         """An independent copy."""
+        return self._with_positions(self._q.copy())
+
+    def _with_positions(self, q: np.ndarray) -> RobotState:
+        """A state of the same robot at the variable vector ``q`` (taken, not copied) that
+        sees the same attached objects as this one (as MoveIt's copies carry attached bodies)."""
         other = RobotState.__new__(RobotState)
         other._model = self._model
-        other._q = self._q.copy()
+        other._q = q
         other._fk_token = None
         other._attached_frames = self._attached_frames
         return other

@@ -43,8 +43,9 @@ class RobotTrajectory:
         positions: np.ndarray,
         times: np.ndarray | None = None,
     ) -> RobotTrajectory:
-        """A trajectory whose waypoints are ``reference`` with the group's variables set to the
-        rows of ``positions`` (N x k), at ``times`` from start (default: all 0)."""
+        """A trajectory whose waypoints are ``reference`` (its attached objects included) with
+        the group's variables set to the rows of ``positions`` (N x k), at ``times`` from start
+        (default: all 0)."""
         traj = cls(robot_model, group_name)
         idx = traj._group.variable_indices
         base = reference.positions.copy()
@@ -53,7 +54,7 @@ class RobotTrajectory:
         for row, t in zip(np.asarray(positions, dtype=float), times):
             q = base.copy()
             q[idx] = row
-            traj.waypoints.append(RobotState(robot_model, q))
+            traj.waypoints.append(reference._with_positions(q))
             traj._durations.append(float(t) - previous)
             previous = float(t)
         return traj
