@@ -438,3 +438,16 @@ def test_waypoints_carry_the_start_states_attached_objects(pipeline, ready_scene
     for h, o in zip(hand, held):
         np.testing.assert_allclose(np.linalg.inv(h) @ o, rel0, atol=1e-9)
     assert not np.allclose(held[0], held[-1])
+
+
+def test_waypoints_keep_mimic_joints_following(pipeline, ready_scene):
+    """The hand group plans its one finger joint; the mimic finger follows at every waypoint."""
+    start = ready_scene.current_state.copy()
+    goal = start.copy()
+    goal.set_to_default_values("hand", "close")
+    result, traj = pipeline.plan_joint(ready_scene, start, goal, "hand", seed=0)
+    assert result, result.message
+    q1 = np.array([wp.joint_positions["panda_finger_joint1"] for wp in traj])
+    q2 = np.array([wp.joint_positions["panda_finger_joint2"] for wp in traj])
+    assert q1[0] > q1[-1] + 0.01
+    np.testing.assert_allclose(q2, q1, atol=1e-12)

@@ -191,11 +191,18 @@ class RobotState:
 
     def copy(self) -> RobotState:
         """An independent copy."""
-        return self._with_positions(self._q.copy())
+        other = RobotState.__new__(RobotState)
+        other._model = self._model
+        other._q = self._q.copy()
+        other._fk_token = None
+        other._attached_frames = self._attached_frames
+        return other
 
     def _with_positions(self, q: np.ndarray) -> RobotState:
-        """A state of the same robot at the variable vector ``q`` (taken, not copied) that
-        sees the same attached objects as this one (as MoveIt's copies carry attached bodies)."""
+        """A state of the same robot at the variable vector ``q`` (taken, not copied; mimic
+        joints made to follow, as the constructor does) that sees the same attached objects
+        as this one (as MoveIt's state copies carry attached bodies)."""
+        self._model.enforce_mimic(q)
         other = RobotState.__new__(RobotState)
         other._model = self._model
         other._q = q
