@@ -13,7 +13,7 @@ from mtc.core.stage import InitStageError, PropagatingEitherWay
 from mtc.core.storage import InterfaceState, SubTrajectory
 from mtc.stages._common import ik_frame_from_args
 
-__all__ = ["PlannerStage", "check_planner", "planner_message", "synthesized_trajectory"]
+__all__ = ["PlannerStage", "check_planner", "init_planner", "planner_message", "synthesized_trajectory"]
 
 
 def planner_message(result) -> str:
@@ -40,6 +40,16 @@ def check_planner(stage, planner) -> None:
             f"{type(stage).__name__} '{stage.name}': planner must be a PlannerInterface "
             f"(e.g. core.JointInterpolationPlanner()), got {type(planner).__name__}"
         )
+
+
+def init_planner(stage, planner, robot_model) -> None:
+    """``planner.init(robot_model)``, its configuration errors (an unknown pipeline or planner
+    id: ``ValueError`` with the known ones) raised as the stage's ``InitStageError``, so that
+    ``Task.init`` collects them with every other problem of the tree."""
+    try:
+        planner.init(robot_model)
+    except ValueError as e:
+        raise InitStageError(stage, str(e)) from None
 
 
 class PlannerStage(PropagatingEitherWay):
@@ -91,7 +101,7 @@ class PlannerStage(PropagatingEitherWay):
         super().init(robot_model)
         if self._planner is None:
             raise InitStageError(self, "no planner specified (pass one to the constructor or use setPlanner())")
-        self._planner.init(robot_model)
+        init_planner(self, self._planner, robot_model)
 
     def _sceneAndGroup(self, state: InterfaceState, goal_property: str, undefined: str):
         """The diff of ``state``'s scene to plan in, the group, and the goal property's value;

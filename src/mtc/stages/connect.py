@@ -17,7 +17,7 @@ from mtc.core.cost_terms import PathLength
 from mtc.core.stage import Connecting, InitStageError
 from mtc.core.storage import InterfaceState, SolutionSequence, SubTrajectory
 from mtc.planners.time_parameterization import TimeOptimalTrajectoryGeneration
-from mtc.stages._planner_stage import check_planner, planner_message
+from mtc.stages._planner_stage import check_planner, init_planner, planner_message
 
 __all__ = ["Connect", "MergeMode"]
 
@@ -127,7 +127,9 @@ class Connect(Connecting):
             elif planner is None:
                 errors.push_back(self, f"invalid planner for group: {group}")
             else:
-                planner.init(robot_model)
+                planner_errors = InitStageError.collect(init_planner, self, planner, robot_model)
+                if planner_errors:
+                    errors.append(planner_errors)
                 groups.append(robot_model.get_joint_model_group(group))
         if errors:
             raise errors
