@@ -288,3 +288,19 @@ def test_seed_add_sphere_and_attach(make_task):
     assert scene.attached_object_names == ["sphere"]
     shape = scene.get_frame_transform("sphere") @ scene.get_attached_object("sphere").object.shape_poses[0]
     assert shape[:3, 3] == pytest.approx([0.307, 0.0, 0.285])
+
+
+def test_removing_an_absent_object_is_logged_and_skipped(make_task, ready_scene, sphere, caplog):
+    """MTC ignores MoveIt's result of a collision-object edit: removing or moving an object the
+    scene does not have logs an error and the stage still succeeds (a defensive clean-up stage
+    works); the other edits of the stage are applied."""
+    m = stages.ModifyPlanningScene()
+    m.removeObject("old_box")
+    m.moveObject(msgs.CollisionObject(id="ghost", header=msgs.Header(frame_id="world"),
+                                      operation=msgs.CollisionObject.MOVE,
+                                      pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))))
+    m.addObject(sphere("ball", FAR))
+    task = make_task(stages.FixedState("start", ready_scene), m)
+    assert task.plan()
+    assert end_scene(m).world_object_names == ["ball"]
+    assert "old_box" in caplog.text and "ghost" in caplog.text

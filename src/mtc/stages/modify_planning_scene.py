@@ -187,7 +187,13 @@ class ModifyPlanningScene(PropagatingEitherWay):
                 raise RuntimeError("cannot apply removeObject() backwards")
             elif obj.operation == msgs.CollisionObject.MOVE:
                 raise RuntimeError("cannot apply moveObject() backwards")
-        scene.apply_collision_object(obj)
+        try:
+            scene.apply_collision_object(obj)
+        except KeyError as e:
+            # as MTC, which ignores MoveIt's result here: removing or moving an object the scene
+            # does not have (or adding one in an unknown frame) is logged and skipped
+            log.error("cannot apply collision object '%s' (operation %d): %s", obj.id, obj.operation,
+                      e.args[0] if e.args else e)
 
     @staticmethod
     def _attachObjects(scene, names: list[str], link: str, attach: bool) -> None:
