@@ -161,3 +161,16 @@ def test_pilz_honours_the_cartesian_speed_limit(ready_scene):
     P = np.array([w.get_global_link_transform("panda_link8")[:3, 3] for w in traj])
     speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(traj.times)
     assert 0.045 < speed.max() <= 0.05 * 1.02
+
+
+def test_planner_id_in_the_constructor(panda):
+    """PipelinePlanner(pipeline, planner_id), as MTC's ROS 2 constructor (without the node)."""
+    planner = PipelinePlanner("ompl", "PRMkConfigDefault")
+    assert planner.planner == "PRMkConfigDefault"
+    assert PipelinePlanner(pipeline="pilz_industrial_motion_planner", planner_id="LIN").planner == "LIN"
+    assert PipelinePlanner().planner == ""
+    with pytest.raises(TypeError, match="planner_id must be a planner id"):
+        PipelinePlanner("ompl", 3)
+    bad = PipelinePlanner("ompl", "RRTFast")
+    with pytest.raises(ValueError, match="unknown OMPL planner id 'RRTFast'"):
+        bad.init(panda)

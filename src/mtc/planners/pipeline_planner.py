@@ -56,6 +56,7 @@ class PipelinePlanner(PlannerInterface):
 
     Args:
         pipeline: ``"ompl"`` or ``"pilz_industrial_motion_planner"``.
+        planner_id: the ``planner`` property's value (MTC's ROS 2 constructor takes it too).
 
     Properties:
         planner: planner id ("" = the pipeline's default: ``RRTConnectkConfigDefault``, ``PTP``).
@@ -69,14 +70,16 @@ class PipelinePlanner(PlannerInterface):
         (and those of :class:`PlannerInterface`)
     """
 
-    def __init__(self, pipeline: str = "ompl"):
+    def __init__(self, pipeline: str = "ompl", planner_id: str = ""):
         super().__init__()
         if not isinstance(pipeline, str):
             raise TypeError(f"pipeline must be a name ({', '.join(KNOWN_PIPELINES)}), not {type(pipeline).__name__}")
+        if not isinstance(planner_id, str):
+            raise TypeError(f"planner_id must be a planner id (a str), not {type(planner_id).__name__}")
         self._pipeline_id = pipeline
         self._pipeline = None
         p = self.properties
-        p.declare("planner", "", "planner id")
+        p.declare("planner", planner_id, "planner id")
         p.declare("num_planning_attempts", 1, "number of planning attempts", type=unsigned_int)
         p.declare("workspace_parameters", msgs.WorkspaceParameters(), "allowed workspace of mobile base?")
         p.declare("goal_joint_tolerance", 1e-4, "tolerance for reaching joint goals")
