@@ -407,3 +407,45 @@ def test_inheritance_type_error_becomes_init_error(t):
         t.plan()
     assert "FWD1: Property 'group': type int doesn't match property's declared type str" in str(info.value)
     assert "in stage 'task pipeline': defined here" in str(info.value)
+
+
+def test_unknown_attribute_of_a_library_class_raises():
+    """As MTC's bound C++ classes: setting a name that is neither a property nor an attribute
+    of one of mtc's own stages or planners raises AttributeError (a typo would set nothing)."""
+    from mtc import stages
+
+    ik = stages.ComputeIK("ik", stages.GeneratePose("pose"))
+    with pytest.raises(AttributeError, match=r"'ComputeIK' object has no attribute 'max_ik_solution' \(its properties: .*max_ik_solutions"):
+        ik.max_ik_solution = 8
+    assert ik.max_ik_solutions == 1
+    ik.max_ik_solutions = 8  # the real name still works
+    assert ik.max_ik_solutions == 8
+    planner = core.PipelinePlanner()
+    with pytest.raises(AttributeError, match="'PipelinePlanner' object has no attribute 'planner_id'"):
+        planner.planner_id = "PRMkConfigDefault"
+    with pytest.raises(AttributeError, match="'CartesianPath' object has no attribute 'jump_threshold'"):
+        core.CartesianPath().jump_threshold = 0.0
+    with pytest.raises(AttributeError, match="'Task' object has no attribute 'max_solutions'"):
+        core.Task().max_solutions = 3
+
+
+def test_user_subclasses_keep_attributes_of_their_own():
+    """A Python subclass (as in MTC, whose Python subclasses have a __dict__) sets any attribute."""
+
+    class Counter(core.Generator):
+        def __init__(self):
+            super().__init__("counter")
+            self.calls = 0
+
+        def canCompute(self):
+            return False
+
+        def compute(self):
+            self.calls += 1
+
+    c = Counter()
+    c.extra = "mine"
+    assert (c.calls, c.extra) == (0, "mine")
+    c.timeout = 2.0  # a property still type-checks
+    with pytest.raises(TypeError):
+        c.timeout = "long"

@@ -616,6 +616,25 @@ class TypedPropertyAccess:
 
     # property name -> function(value) -> attribute value (e.g. sets shown as sorted lists)
     _attribute_getters: dict = {}
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if cls.__module__.split(".", 1)[0] != "mtc" and "__setattr__" not in cls.__dict__:
+            # a user's Python subclass may keep attributes of its own (as Python subclasses of
+            # MTC's bound classes can), and pays nothing for the check
+            cls.__setattr__ = object.__setattr__
+
+    def __setattr__(self, name: str, value) -> None:
+        """Setting an unknown public attribute of one of mtc's own classes raises
+        ``AttributeError``, as MTC's bound C++ classes do (a typo such as
+        ``stage.max_ik_solution = 8`` would otherwise set nothing)."""
+        if name[0] != "_" and not hasattr(type(self), name):
+            props = self.__dict__.get("_properties")
+            known = sorted(props._props) if props is not None else []
+            raise AttributeError(
+                f"'{type(self).__name__}' object has no attribute '{name}'"
+                + (f" (its properties: {', '.join(n for n in known if n[0] != '_')})" if known else "")
+            )
+        object.__setattr__(self, name, value)
 
     def _newProperties(self) -> PropertyMap:
         """An empty property map whose declared names are attributes of this object."""
