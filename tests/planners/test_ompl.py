@@ -451,3 +451,52 @@ def test_waypoints_keep_mimic_joints_following(pipeline, ready_scene):
     q2 = np.array([wp.joint_positions["panda_finger_joint2"] for wp in traj])
     assert q1[0] > q1[-1] + 0.01
     np.testing.assert_allclose(q2, q1, atol=1e-12)
+
+
+def _ball_on_table(scene, goal, gap: float):
+    """Attach a 3 cm ball below the hand and put a table whose top lies ``gap`` below the
+    ball's lowest point at ``goal``."""
+    ball = msgs.CollisionObject(id="ball", header=msgs.Header(frame_id="panda_hand"))
+    ball.primitives = [msgs.SolidPrimitive(type=msgs.SolidPrimitive.SPHERE, dimensions=[0.03])]
+    ball.primitive_poses = [msgs.Pose(position=msgs.Point(z=0.15), orientation=msgs.Quaternion(w=1.0))]
+    scene.apply_collision_object(ball)
+    scene.attach_object("ball", "panda_hand", touch_links=["panda_hand", "panda_leftfinger", "panda_rightfinger"])
+    state = scene.current_state.copy()
+    state.positions = goal.positions
+    x, y, z = state.get_frame_transform("ball")[:3, 3]
+    table = msgs.CollisionObject(id="table", header=msgs.Header(frame_id="world"))
+    table.primitives = [msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.2, 0.2, 0.1])]
+    table.primitive_poses = [msgs.Pose(position=msgs.Point(x=x, y=y, z=z - 0.03 - gap - 0.05),
+                                       orientation=msgs.Quaternion(w=1.0))]
+    scene.apply_collision_object(table)
+
+
+def test_a_goal_touching_an_obstacle_fails_at_once(pipeline, ready_scene):
+    """A goal closer to an obstacle than the proof resolves (here 1 nm: valid, yet no motion to
+    it can be proven free) fails at once with GOAL_IN_COLLISION instead of at the timeout; the
+    same start fails with START_STATE_IN_COLLISION; 0.1 mm of clearance plans."""
+    import time
+
+    goal = _state(ready_scene, panda_joint1=0.5, panda_joint2=0.2)
+    _ball_on_table(ready_scene, goal, 1e-9)
+    start = ready_scene.current_state.copy()
+    goal = _state(ready_scene, panda_joint1=0.5, panda_joint2=0.2)
+    assert not ready_scene.is_state_colliding(goal)
+    t0 = time.perf_counter()
+    result, traj = pipeline.plan_joint(ready_scene, start, goal, ARM, timeout=5.0, seed=0)
+    assert time.perf_counter() - t0 < 1.0
+    assert not result and traj is None
+    assert result.message.startswith("GOAL_IN_COLLISION: goal state touches an obstacle (closer than 1e-06 m)")
+    result, _ = pipeline.plan_joint(ready_scene, goal, start, ARM, timeout=5.0, seed=0)
+    assert result.message.startswith("START_STATE_IN_COLLISION: start state touches an obstacle")
+    result, _ = pipeline.plan_joint(ready_scene, goal, goal.copy(), ARM, timeout=5.0, seed=0)
+    assert result  # already there: no motion to prove
+
+
+def test_a_goal_with_a_small_clearance_plans(pipeline, ready_scene):
+    goal = _state(ready_scene, panda_joint1=0.5, panda_joint2=0.2)
+    _ball_on_table(ready_scene, goal, 1e-4)
+    start = ready_scene.current_state.copy()
+    goal = _state(ready_scene, panda_joint1=0.5, panda_joint2=0.2)
+    result, traj = pipeline.plan_joint(ready_scene, start, goal, ARM, timeout=5.0, seed=0)
+    assert result, result.message

@@ -16,7 +16,10 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    fails with the colliding bodies or the violated constraint in the message.
 2. The goal is checked the same way (``GOAL_STATE_INVALID``, ``GOAL_IN_COLLISION``,
    ``GOAL_VIOLATES_PATH_CONSTRAINTS``). Pose goals are turned into goal states by inverse
-   kinematics (several distinct, valid solutions; the planner may reach any of them).
+   kinematics (several distinct, valid solutions; the planner may reach any of them). A start
+   or goal that touches an obstacle (closer than :data:`CERTIFY_MIN_MARGIN`, so that no motion
+   from or to it can be proven free, see 4.) fails at once with ``START_STATE_IN_COLLISION`` or
+   ``GOAL_IN_COLLISION`` instead of at the timeout; pose goals skip such IK solutions.
 3. The straight joint-space segment is tried first; a free one is the answer.
 4. Otherwise OMPL's planner searches the group's joint space. Motions are validated by
    :class:`_EdgeChecker` in numpy batches: states interpolated along the edge, checked end
@@ -379,6 +382,7 @@ class _EdgeChecker:
         # collisions between the sampled states are ruled out by motion bounds where the
         # robot's joints have them (revolute, prismatic), else edges are sampled finely
         self.certified = self._motion.certifiable
+        self._touch_margins: np.ndarray | None = None  # see touching()
 
     def full(self, x: np.ndarray) -> np.ndarray:
         q = self._base.copy()
@@ -404,6 +408,20 @@ class _EdgeChecker:
         if ok:
             self._valid_states.add(key)
         return ok
+
+    def touching(self, x: np.ndarray) -> bool:
+        """Whether the (valid) group configuration ``x`` lies within :data:`CERTIFY_MIN_MARGIN`
+        of a collision between bodies the group can move towards each other: no motion from
+        or to it can then be proven collision-free (see :meth:`_certify`), so planning to or
+        from it would only run out of time. False where the joints allow no proof."""
+        if not self.certified:
+            return False
+        margins = self._touch_margins
+        if margins is None:
+            dq = np.zeros(len(self._base))
+            dq[self._cols] = 1.0
+            margins = self._touch_margins = np.where(self._motion.margins(dq) > 0.0, CERTIFY_MIN_MARGIN, 0.0)
+        return not self._motion.clear(self.full(x), margins)
 
     def segments(self, a: np.ndarray, b: np.ndarray) -> int:
         """Number of (fine) segments an edge is checked and interpolated in."""
@@ -1107,7 +1125,7 @@ class OMPLPipeline:
             if not in_bounds(x):
                 rejected["bounds"] += 1
                 return False
-            if not checker.state_ok(x):
+            if not checker.state_ok(x) or checker.touching(x):
                 rejected["invalid"] += 1
                 return False
             return True
@@ -1136,8 +1154,8 @@ class OMPLPipeline:
         if rejected["invalid"] or rejected["bounds"]:
             return [], (
                 f"NO_IK_SOLUTION: no valid goal state for '{link}' ({rejected['invalid']} IK solutions in "
-                f"collision or violating the path constraints, {rejected['bounds']} outside the joint "
-                "constraints)"
+                f"collision, touching an obstacle or violating the path constraints, {rejected['bounds']} "
+                "outside the joint constraints)"
             )
         return [], f"NO_IK_SOLUTION: no inverse kinematics solution for '{link}' at the target pose"
 
@@ -1163,6 +1181,14 @@ class OMPLPipeline:
         for g in goals:
             if np.all(np.abs(g - req.x_start) <= goal_tol):
                 return self._success(req, np.array([req.x_start, g]), np.array([req.x_start, g]))
+        # a start or goal closer to an obstacle than the proof can resolve: fail now, not at the timeout
+        if checker.touching(req.x_start):
+            return self._fail(req, f"START_STATE_IN_COLLISION: start state touches an obstacle (closer than "
+                                   f"{CERTIFY_MIN_MARGIN:g} m): no motion from it can be proven collision-free")
+        goals = [g for g in goals if not checker.touching(g)]
+        if not goals:
+            return self._fail(req, f"GOAL_IN_COLLISION: goal state touches an obstacle (closer than "
+                                   f"{CERTIFY_MIN_MARGIN:g} m): no motion to it can be proven collision-free")
         # the straight segment (to the nearest goal first)
         order = sorted(range(len(goals)), key=lambda i: float(np.abs(goals[i] - req.x_start).sum()))
         t_plan = time.perf_counter()
