@@ -11,7 +11,7 @@
   ``max_cartesian_step`` / ``max_rotation_step`` apart), each solved by IK from the previous one;
   the planner fails if IK fails or jumps anywhere on the line. Where the line would need faster
   joints than their scaled limits, the trapezoid's speed and acceleration are lowered until they
-  do not (as Pilz adapts its timing).
+  do not (MoveIt's Pilz fails such a request instead; see docs/porting.md).
 * ``CIRC``: the frame moves on a circular arc, orientation by slerp, with the same speed profile.
   As in Pilz, the arc is given through the request's path constraints: ``path_constraints.name``
   is ``"interim"`` (a point the arc passes through) or ``"center"`` (the circle's centre; start and
@@ -486,7 +486,7 @@ class PilzPipeline:
     def _time_path(dq, ddq, fractions, v_s, a_s, d_s, vmax, amax):
         """Times, velocities and accelerations of the waypoints at ``fractions`` under a
         trapezoid of the fraction; the trapezoid's limits shrink until the joints keep theirs
-        (as Pilz adapts its timing where the joint limits would be violated)."""
+        (MoveIt's Pilz fails where the joint limits would be violated)."""
         for _ in range(8):
             profile = TrapezoidProfile(1.0, v_s, a_s, d_s)
             times = np.array([profile.time_at(float(s)) for s in fractions])
