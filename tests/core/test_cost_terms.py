@@ -119,6 +119,35 @@ def test_lambda_cost_term():
     assert sol.solutions[0].comment == comment, "a cost term's comment reaches the solution"
 
 
+def test_lambda_cost_term_with_comment_argument():
+    # MTC's second overload: fn(sub_trajectory, comment) -> cost. The comment argument is the
+    # term's (empty) output comment; a comment reaches the solution only through a returned pair.
+    container = core.SerialContainer()
+    stage = GeneratorCostMockup()
+    seen = []
+
+    def term(sub, comment):
+        seen.append((sub.creator, comment))
+        return 2.0 * TERM_COST
+
+    stage.setCostTerm(term)
+    compute_with_stages(container, [stage])
+    assert container.solutions[0].cost == 2.0 * TERM_COST
+    assert seen == [(stage, "")]
+    stage = GeneratorCostMockup()
+    stage.setCostTerm(lambda sub, comment: (1.0, "two-argument term"))
+    compute_with_stages(container, [stage])
+    assert container.solutions[0].solutions[0].comment == "two-argument term"
+
+
+def test_lambda_cost_term_with_wrong_arity_fails_at_set():
+    stage = GeneratorCostMockup()
+    with pytest.raises(TypeError, match=r"\(sub_trajectory\) or \(sub_trajectory, comment\)"):
+        stage.setCostTerm(lambda a, b, c: 0.0)
+    with pytest.raises(TypeError, match=r"\(sub_trajectory\) or \(sub_trajectory, comment\)"):
+        stage.setCostTerm(lambda: 0.0)
+
+
 def test_cost_overwrite():
     container = core.SerialContainer()
     compute_with_stages(container, [GeneratorCostMockup()])

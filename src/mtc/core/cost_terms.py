@@ -14,6 +14,7 @@ a failure.
 
 from __future__ import annotations
 
+import inspect
 import math
 from collections.abc import Callable, Mapping, Sequence
 from enum import IntEnum
@@ -103,15 +104,46 @@ class TrajectoryCostTerm(CostTerm):
 
 
 class LambdaCostTerm(TrajectoryCostTerm):
-    """A cost term from a function ``f(sub_trajectory) -> cost | (cost, comment)``."""
+    """A cost term from a function of each sub-trajectory.
+
+    The function takes ``(sub_trajectory)`` or, as MTC's second overload does,
+    ``(sub_trajectory, comment)``; it returns a cost or a ``(cost, comment)`` pair. In the
+    two-argument form ``comment`` is the empty string of the term's output comment: a Python
+    string cannot be written through, so a comment is returned in the pair (MTC's Python
+    bindings drop a comment written to that argument too).
+    """
 
     def __init__(self, fn: Callable):
         if not callable(fn):
             raise TypeError(f"LambdaCostTerm needs a callable, got {fn!r}")
         self.fn = fn
+        self._with_comment = _takes_comment(fn)
 
     def __call__(self, solution):
+        if self._with_comment:
+            return self.fn(solution, "")
         return self.fn(solution)
+
+
+def _takes_comment(fn: Callable) -> bool:
+    """Whether ``fn`` must be called as ``fn(sub_trajectory, comment)``.
+
+    A function callable with one argument is called so; one that needs two is given the
+    comment too; anything else is refused here rather than at planning time.
+    """
+    try:
+        sig = inspect.signature(fn)
+    except (TypeError, ValueError):  # builtins without a signature: call with one argument
+        return False
+    for args in ((None,), (None, "")):
+        try:
+            sig.bind(*args)
+        except TypeError:
+            continue
+        return len(args) == 2
+    raise TypeError(
+        f"a cost function takes (sub_trajectory) or (sub_trajectory, comment), got {fn!r} with signature {sig}"
+    )
 
 
 class Constant(CostTerm):

@@ -383,7 +383,8 @@ class Stage(TypedPropertyAccess):
 
         Args:
             term: A :class:`~mtc.core.cost_terms.CostTerm`, None (keep the stage's cost)
-                or a callable ``f(solution) -> cost | (cost, comment)``.
+                or a callable ``f(sub_trajectory)`` or ``f(sub_trajectory, comment)``
+                returning a cost or a ``(cost, comment)`` pair.
         """
         term = as_cost_term(term)
         # a plain CostTerm keeps the cost: store None to skip evaluating it
