@@ -119,3 +119,37 @@ def test_overlapping_joints():
     both = mtc.RobotTrajectory.from_positions(panda, "panda_arm_hand", state, np.zeros((2, 8)))
     with pytest.raises(MergeError, match="overlapping joints: panda_joint1, panda_joint2"):
         merge_trajectories([arm, both], state)
+
+
+def test_merger_time_parameterization_default_and_override(t):
+    from mtc.planners.time_parameterization import TimeOptimalTrajectoryGeneration, TimeParameterization
+
+    merger = core.Merger("merger")
+    # MTC's Merger declares time_parameterization with a TOTG instance by default
+    assert isinstance(merger.properties["time_parameterization"], TimeOptimalTrajectoryGeneration)
+
+    class EvenTiming(TimeParameterization):
+        """Records its calls and spaces waypoints 0.5 s apart."""
+
+        calls = []
+
+        def computeTimeStamps(self, traj, velocity_scaling, acceleration_scaling):
+            self.calls.append((len(traj), velocity_scaling, acceleration_scaling))
+            traj.times = 0.5 * np.arange(len(traj))
+            return True
+
+    timing = EvenTiming()
+    merger.properties["time_parameterization"] = timing
+    merger.add(GroupMove("arm", "group", [0.4, -0.2], waypoints=3))
+    merger.add(GroupMove("hand", "eef_group", [0.6], waypoints=5))
+    add(t, GeneratorMockup([0.0]))
+    t.add(merger)
+    assert t.plan()
+    assert timing.calls == [(5, 1.0, 1.0)]
+    assert merger.solutions[0].trajectory.duration == pytest.approx(2.0)
+
+
+def test_merger_time_parameterization_rejects_other_types():
+    merger = core.Merger("merger")
+    with pytest.raises(core.PropertyTypeError, match="time_parameterization"):
+        merger.properties["time_parameterization"] = "TOTG"

@@ -902,13 +902,17 @@ class Merger(ParallelContainerBase):
     """Children plan for disjoint joint groups from the same state; their trajectories are merged.
 
     Properties:
-        time_parameterization: Time parameterization of the merged trajectory (None: the
-            planners' default, if available).
+        time_parameterization: Time parameterization of the merged trajectory
+            (default: ``TimeOptimalTrajectoryGeneration()``, as in MTC).
     """
 
     def __init__(self, name: str = "merger"):
         super().__init__(name)
-        self._properties.declare("time_parameterization", None, "time parameterization of merged trajectories")
+        # imported here: the planners build on mtc.core, so core must not import them at load
+        from mtc.planners.time_parameterization import TimeOptimalTrajectoryGeneration, TimeParameterization
+
+        self._properties.declare("time_parameterization", TimeOptimalTrajectoryGeneration(),
+                                 "time parameterization of merged trajectories", type=TimeParameterization)
         self._source_state_to_solutions: dict = {}
 
     def _resetBookkeeping(self) -> None:
