@@ -275,8 +275,11 @@ def test_joint_outside_group_raises(make_task, ready_scene, move):
     """A delta for a joint outside the group raises out of plan() (MTC's runtime_error)."""
     move.setDirection({"panda_finger_joint1": 0.01})
     task = make_task(start(ready_scene), move)
-    with pytest.raises(RuntimeError, match="Cannot plan for joint 'panda_finger_joint1' that is not part of group 'panda_arm'"):
+    with pytest.raises(RuntimeError) as raised:
         task.plan()
+    # MTC's runtime_error text exactly: no stage-name prefix, not an InitStageError
+    assert str(raised.value) == "Cannot plan for joint 'panda_finger_joint1' that is not part of group 'panda_arm'"
+    assert not isinstance(raised.value, core.InitStageError)
 
 
 def test_joint_delta_beyond_bounds_fails(make_task, ready_scene):

@@ -109,7 +109,8 @@ class MoveRelative(PlannerStage):
             try:
                 deltas = joint_deltas(motion, model, group)
             except GoalError as e:
-                raise RuntimeError(f"{self.name}: {e}") from None
+                # MTC throws a plain runtime_error with the bare message (no stage name)
+                raise RuntimeError(str(e)) from None
             sign = -1.0 if backward else 1.0
             goal = scene.current_state
             # joint bounds are left to the planner, which reports a goal out of bounds
