@@ -341,6 +341,29 @@ def test_explain_failure_and_print_state():
     ]
 
 
+def test_plan_without_solutions_prints_state_and_failure_to_stdout(capsys):
+    # MTC's Task::plan ends with printState(); explainFailure(); on std::cout when no solution
+    # was found, and prints nothing when there is one
+    t = core.Task()
+    t.setRobotModel(toy_model())
+    add(t, GeneratorMockup())
+    add(t, ForwardMockup([INF]))
+    assert not t.plan()
+    assert capsys.readouterr().out.splitlines() == [
+        "  0  - ←   0 →   -  0 / task pipeline",
+        "    1  - ←   1 →   -  0 / GEN1",
+        "    -  0 →   0 →   -  0 / FWD1",
+        "Failing stage(s):",
+        "FWD1 (0/1): ",
+    ]
+    t = core.Task()
+    t.setRobotModel(toy_model())
+    add(t, GeneratorMockup())
+    add(t, ForwardMockup())
+    assert t.plan()
+    assert capsys.readouterr().out == ""
+
+
 def test_explain_failure_recurses_into_containers():
     t = core.Task()
     t.setRobotModel(toy_model())

@@ -332,13 +332,9 @@ class Task(WrapperBase):
     def _result(self, code: int) -> MoveItErrorCode:
         if self.numSolutions() > 0:
             return MoveItErrorCode(MoveItErrorCode.SUCCESS)
-        if log.isEnabledFor(logging.INFO):
-            import io
-
-            buf = io.StringIO()
-            self.printState(buf)
-            self.explainFailure(buf)
-            log.info("Task '%s' found no solution:\n%s", self.name, buf.getvalue())
+        # as MTC, a plan without solutions prints the stage tree and the failure to stdout
+        self.printState()
+        self.explainFailure()
         return MoveItErrorCode(code)
 
     def preempt(self) -> None:
