@@ -169,3 +169,46 @@ def test_seed_snippet_without_object_and_eef_is_rejected(make_task):
     text = str(e.value)
     assert "Generate Grasp Pose: Property 'object': undefined (name the object to grasp" in text
     assert "Generate Grasp Pose: Property 'eef': undefined" in text
+
+
+class _TaggedState(core.Generator):
+    """One state of the current scene that carries a property named "tag"."""
+
+    def __init__(self):
+        super().__init__("tagged")
+        self.done = False
+
+    def reset(self):
+        super().reset()
+        self.done = False
+
+    def canCompute(self):
+        return not self.done
+
+    def compute(self):
+        self.done = True
+        state = core.InterfaceState(mtc.current_scene().diff())
+        state.properties.set("tag", "upstream")
+        self.spawn(state, 0.0)
+
+
+def test_upstream_properties_are_not_forwarded(make_task, box_in_scene):
+    """MTC's GenerateGraspPose builds new states with target_pose, pregrasp and grasp only; unlike
+    GeneratePose it does not forward the monitored state's properties, whatever forwarded_properties says."""
+    tagged = _TaggedState()
+    grasp = _generator(math.pi)
+    grasp.forwarded_properties = ["tag"]
+    grasp.setMonitoredStage(tagged)
+    pose = stages.GeneratePose("pose")
+    pose.pose = msgs.PoseStamped(header=msgs.Header(frame_id="object"))
+    pose.forwarded_properties = ["tag"]
+    pose.setMonitoredStage(tagged)
+    alternatives = core.Alternatives("either")
+    alternatives.add(grasp, pose)
+    task = make_task(tagged, stages.Connect("connect", [("panda_arm", core.JointInterpolationPlanner())]),
+                     alternatives)
+    task.plan()
+    assert len(grasp.solutions) == 2 and len(pose.solutions) == 1
+    for solution in grasp.solutions:
+        assert sorted(solution.end.properties.keys()) == ["grasp", "pregrasp", "target_pose"]
+    assert pose.solutions[0].end.properties["tag"] == "upstream"  # the contrast: GeneratePose forwards

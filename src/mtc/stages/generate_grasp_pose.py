@@ -251,8 +251,8 @@ class GenerateGraspPose(GeneratePose):
         ns = self.markerNS()
         for k, angle in enumerate(grasp_angles(delta)):
             target = pose_stamped(_axis_rotation(axis, angle), obj)
+            # unlike GeneratePose, MTC does not forward the upstream state's properties here
             state = InterfaceState(scene)
-            self.forwardProperties(s.end, state)
             state.properties.set("target_pose", target)
             # the postures travel with the state (MTC: exposeTo) so SimpleGrasp can use them
             for name in ("pregrasp", "grasp"):
