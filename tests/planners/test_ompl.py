@@ -472,13 +472,13 @@ def _ball_on_table(scene, goal, gap: float):
 
 
 def test_a_goal_touching_an_obstacle_fails_at_once(pipeline, ready_scene):
-    """A goal closer to an obstacle than the proof resolves (here 1 nm: valid, yet no motion to
+    """A goal closer to an obstacle than the proof resolves (here 0.1 µm: valid, yet no motion to
     it can be proven free) fails at once with GOAL_IN_COLLISION instead of at the timeout; the
     same start fails with START_STATE_IN_COLLISION; 0.1 mm of clearance plans."""
     import time
 
     goal = _state(ready_scene, panda_joint1=0.5, panda_joint2=0.2)
-    _ball_on_table(ready_scene, goal, 1e-9)
+    _ball_on_table(ready_scene, goal, 1e-7)
     start = ready_scene.current_state.copy()
     goal = _state(ready_scene, panda_joint1=0.5, panda_joint2=0.2)
     assert not ready_scene.is_state_colliding(goal)

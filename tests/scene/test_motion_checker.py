@@ -206,3 +206,41 @@ def test_margin_table_agrees_with_the_direct_sums(scene):
             checker._combined = saved
         for a, b in zip(table, direct):
             np.testing.assert_allclose(a, b, rtol=1e-12, atol=1e-12)
+
+
+# A state found by a stress run (a hand between the bars of a cage): panda_link6's convex hull
+# sinks 2.4 mm into a bar. coal 3.0's GJK, asked for no contact, ends early with "separate" here;
+# every check of mtc's must still see the collision.
+_PENETRATING_Q = [-1.4893493963763236, 0.26813070201557765, 1.1190388713407622, -1.7153904638874353,
+                  2.880516649754285, 2.893646854260033, 0.7979449000131749, 0.04, 0.04]
+_BAR_POSE = np.array([[0.9483593942226319, 0.317197823746763, 0.0, 0.3778014147845465],
+                      [-0.317197823746763, 0.9483593942226319, 0.0, -0.2185444549289265],
+                      [0.0, 0.0, 1.0, 0.4651761727551553],
+                      [0.0, 0.0, 0.0, 1.0]])
+
+
+def test_shallow_penetration_of_a_hull_is_seen_by_every_check(panda):
+    scene = PlanningScene(panda)
+    scene.apply_collision_object(
+        msgs.CollisionObject(
+            id="bar",
+            header=msgs.Header(frame_id="world"),
+            primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.04, 0.7, 0.04])],
+            primitive_poses=[msgs.matrix_to_pose(_BAR_POSE)],
+            operation=msgs.CollisionObject.ADD,
+        )
+    )
+    q = np.array(_PENETRATING_Q)
+    state = scene.current_state
+    state.positions = q
+    contacts = scene.get_contacts(state)
+    assert [(a, b) for a, b, _ in contacts] == [("panda_link6", "bar")]  # the only pair touching
+    depth = contacts[0][2][0][2]
+    assert 0.002 < abs(depth) < 0.003
+    assert scene.is_state_colliding(state)
+    assert scene.is_state_colliding(state, ARM)
+    assert not scene.is_state_valid(state)
+    assert not scene.state_validity_checker(ARM)(q)
+    checker = scene.motion_checker(ARM)
+    assert not checker.free(q)
+    assert checker.first_colliding(q[None, :]) == 0
