@@ -545,7 +545,7 @@ class MotionChecker:
         self._gm = env.geom_model
         self._data = pm.createData()
         # the group's shared geometry data and broad phase: margins are set for clearance
-        # tests and set back to zero right after (plain checks read the same data)
+        # tests and set back to CONTACT_MARGIN right after (plain checks read the same data)
         self._gd, self._manager = env.checker(group)
         self._zero = np.full((self._gm.ngeoms, self._gm.ngeoms), CONTACT_MARGIN)  # the plain checks' margins
         self._bounds, self._movable, self._pair_bounds = env.motion_model()
