@@ -46,7 +46,21 @@ def test_children_of_simple_grasp():
     assert grasp["compute ik"].wrapped() is g
     assert isinstance(grasp["close gripper"], stages.MoveTo)
     assert stages.SimpleGrasp().name == "grasp"
-    assert [c.name for c in stages.SimpleGrasp()] == ["allow object collision", "close gripper", "attach object"]
+
+
+def test_without_generator_compute_ik_is_still_the_first_child():
+    """MTC creates ComputeIK "compute ik" with or without a generator, so the IK properties are
+    exposed on the container either way and the generator can be inserted into it later."""
+    for cls in (stages.SimpleGrasp, stages.SimpleUnGrasp):
+        container = cls()
+        ik = container["compute ik"]
+        assert isinstance(ik, stages.ComputeIK) and list(container)[0] is ik
+        assert ik.wrapped() is None
+        for name in ("max_ik_solutions", "timeout", "ik_frame"):
+            assert container.properties.hasProperty(name), (cls.__name__, name)
+        container.max_ik_solutions = 3
+        container.timeout = 0.5
+        assert (container.max_ik_solutions, container.timeout) == (3, 0.5)
 
 
 def test_children_of_simple_ungrasp():
@@ -54,7 +68,8 @@ def test_children_of_simple_ungrasp():
     ungrasp = stages.SimpleUnGrasp(stages.GeneratePlacePose("gen"), "UnGrasp")
     assert [c.name for c in ungrasp] == ["compute ik", "detach object", "open gripper", "forbid object collision"]
     assert stages.SimpleUnGrasp().name == "ungrasp"
-    assert [c.name for c in stages.SimpleUnGrasp()] == ["detach object", "open gripper", "forbid object collision"]
+    assert [c.name for c in stages.SimpleUnGrasp()] == ["compute ik", "detach object", "open gripper",
+                                                        "forbid object collision"]
 
 
 def test_properties():
@@ -151,3 +166,18 @@ def test_ungrasp_detaches_and_opens(make_task, ready_scene):
     assert end_scene.current_state.joint_positions["panda_finger_joint1"] == pytest.approx(0.035)
     acm = end_scene.allowed_collision_matrix
     assert not any(acm.get_entry("object", link) for link in HAND_LINKS)
+
+
+def test_generator_inserted_into_compute_ik_later(make_task, box_object):
+    """SimpleGrasp() without a generator plans once one is inserted into its "compute ik"."""
+    current = stages.CurrentState("current")
+    grasp = stages.SimpleGrasp(name="Grasp")
+    generator = _grasp_generator(current)
+    generator.eef, generator.object = "hand", "object"  # not inherited: MTC configures only a given one
+    grasp["compute ik"].insert(generator)
+    grasp.setIKFrame(_top_grasp_frame())
+    grasp.eef, grasp.object = "hand", "object"
+    task = make_task(current, stages.Connect("connect", [("panda_arm", core.JointInterpolationPlanner())]), grasp)
+    assert task.plan()
+    assert grasp["compute ik"].wrapped() is generator
+    assert grasp.solutions[0].end.scene.attached_object_names == ["object"]

@@ -61,29 +61,29 @@ class SimpleGraspBase(SerialContainer):
         p.declare("pregrasp", None, "pregrasp posture", convert=check_posture)
         p.declare("grasp", None, "grasp posture", convert=check_posture)
         self._robot_model = None
-        self._generator = None
 
     def _setup(self, generator: Stage | None, forward: bool) -> None:
         self.setForwardedProperties(GRASP_PROPERTIES)
         # children are appended (grasp) or inserted right after ComputeIK (ungrasp), so that
         # ungrasping runs the grasping steps in reverse
-        position = -1 if forward else (1 if generator is not None else 0)
+        position = -1 if forward else 1
 
         if generator is not None:
             if not isinstance(generator, Stage):
                 raise TypeError(f"{type(self).__name__}: the generator must be a Stage, got {type(generator).__name__}")
-            self._generator = generator
             generator.setForwardedProperties(GRASP_PROPERTIES)  # generator -> IK solutions
             generator.properties.configureInitFrom(Stage.PARENT, ["object", "eef"])
-            ik = ComputeIK("compute ik", generator)
-            ik.setForwardedProperties(GRASP_PROPERTIES)
-            p = ik.properties
-            p.declare("object", None, "object to grasp", type=str)
-            p.configureInitFrom(Stage.INTERFACE, ["target_pose"])
-            p.configureInitFrom(Stage.PARENT, ["max_ik_solutions", "timeout", "object"])
-            p.configureInitFrom(Stage.PARENT | Stage.INTERFACE, ["eef", "ik_frame"])
-            p.exposeTo(self.properties, ["max_ik_solutions", "timeout", "ik_frame"])
-            self.insert(ik, 0)  # ComputeIK always goes first
+        # ComputeIK exists even without a generator (as in MTC): the generator can be inserted
+        # into self["compute ik"] later, and the container exposes its IK properties either way
+        ik = ComputeIK("compute ik", generator)
+        ik.setForwardedProperties(GRASP_PROPERTIES)
+        p = ik.properties
+        p.declare("object", None, "object to grasp", type=str)
+        p.configureInitFrom(Stage.INTERFACE, ["target_pose"])
+        p.configureInitFrom(Stage.PARENT, ["max_ik_solutions", "timeout", "object"])
+        p.configureInitFrom(Stage.PARENT | Stage.INTERFACE, ["eef", "ik_frame"])
+        p.exposeTo(self.properties, ["max_ik_solutions", "timeout", "ik_frame"])
+        self.insert(ik, 0)  # ComputeIK always goes first
 
         touch = ModifyPlanningScene("allow object collision" if forward else "forbid object collision")
         touch.setForwardedProperties(GRASP_PROPERTIES)
@@ -174,7 +174,8 @@ class SimpleGrasp(SimpleGraspBase):
 
     Args:
         pose_generator: The grasp-pose generator (e.g. ``GenerateGraspPose``); it is wrapped
-            in the child ComputeIK ``"compute ik"``.
+            in the child ComputeIK ``"compute ik"``. Without one, insert it there later:
+            ``container["compute ik"].insert(generator)``.
         name: Stage name.
     """
 
@@ -188,7 +189,8 @@ class SimpleUnGrasp(SimpleGraspBase):
 
     Args:
         pose_generator: The place-pose generator (e.g. ``GeneratePlacePose``); it is wrapped
-            in the child ComputeIK ``"compute ik"``.
+            in the child ComputeIK ``"compute ik"``. Without one, insert it there later:
+            ``container["compute ik"].insert(generator)``.
         name: Stage name.
     """
 
