@@ -53,6 +53,15 @@ def test_children_and_defaults():
     assert isinstance(pick, stages.PickPlaceBase) and isinstance(place, stages.PickPlaceBase)
 
 
+def test_keyword_names_of_the_binding():
+    """MTC's Python binding names the arguments grasp_generator / place_generator."""
+    grasp, ungrasp = stages.SimpleGrasp(name="Grasp"), stages.SimpleUnGrasp(name="UnGrasp")
+    pick = stages.Pick(grasp_generator=grasp, name="P")
+    place = stages.Place(place_generator=ungrasp, name="Q")
+    assert pick["Grasp"] is grasp and place["UnGrasp"] is ungrasp
+    assert (pick.name, place.name) == ("P", "Q")
+
+
 def test_motions_share_one_cartesian_solver():
     """Both MoveRelatives plan with the container's CartesianPath (cartesian_solver, read-only)."""
     pick = _pick()

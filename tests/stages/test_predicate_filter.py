@@ -41,6 +41,13 @@ def test_defaults():
     assert callable(f.predicate)
 
 
+def test_child_keyword():
+    """The wrapped stage is passed as ``child``, as MTC's constructor names it."""
+    child = stages.NoOp("inner")
+    f = stages.PredicateFilter("filter", child=child)
+    assert f.wrapped() is child
+
+
 def test_missing_predicate_is_an_init_error(make_task):
     """Without a predicate init fails with MTC's words."""
     task = make_task(stages.PredicateFilter("filter", CostGenerator([1.0])))

@@ -162,12 +162,13 @@ class Pick(PickPlaceBase):
     """Approach the object, grasp it with the grasp stage and lift it.
 
     Args:
-        grasp_stage: Usually a ``SimpleGrasp``.
+        grasp_generator: The grasping stage, usually a ``SimpleGrasp`` (the keyword name is
+            MTC's Python binding's).
         name: Stage name.
     """
 
-    def __init__(self, grasp_stage: Stage | None = None, name: str = "pick"):
-        super().__init__(grasp_stage, name, True)
+    def __init__(self, grasp_generator: Stage | None = None, name: str = "pick"):
+        super().__init__(grasp_generator, name, True)
 
     def setApproachMotion(self, motion, min_distance: float | None = None, max_distance: float | None = None) -> None:
         """Motion towards the grasp: ``(TwistStamped, min [m], max [m])`` or ``({joint: delta})``."""
@@ -182,12 +183,13 @@ class Place(PickPlaceBase):
     """Lower the object, release it with the ungrasp stage and retract.
 
     Args:
-        ungrasp_stage: Usually a ``SimpleUnGrasp``.
+        place_generator: The releasing stage, usually a ``SimpleUnGrasp`` (the keyword name is
+            MTC's Python binding's).
         name: Stage name.
     """
 
-    def __init__(self, ungrasp_stage: Stage | None = None, name: str = "place"):
-        super().__init__(ungrasp_stage, name, False)
+    def __init__(self, place_generator: Stage | None = None, name: str = "place"):
+        super().__init__(place_generator, name, False)
 
     def setRetractMotion(self, motion, min_distance: float | None = None, max_distance: float | None = None) -> None:
         """Motion after releasing: ``(TwistStamped, min [m], max [m])`` or ``({joint: delta})``."""

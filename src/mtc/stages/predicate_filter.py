@@ -30,7 +30,7 @@ class PredicateFilter(WrapperBase):
 
     Args:
         name: Stage name.
-        stage: The wrapped child (may be inserted later with ``insert()``).
+        child: The wrapped child (may be inserted later with ``insert()``).
 
     Properties:
         predicate: ``predicate(solution) -> bool`` or ``-> (bool, comment)``; the comment
@@ -38,8 +38,8 @@ class PredicateFilter(WrapperBase):
         ignore_filter: Pass every solution on (default False).
     """
 
-    def __init__(self, name: str = "PredicateFilter", stage: Stage | None = None):
-        super().__init__(name, stage)
+    def __init__(self, name: str = "PredicateFilter", child: Stage | None = None):
+        super().__init__(name, child)
         p = self.properties
         p.declare("predicate", None, "predicate to filter wrapped solutions", convert=_check_predicate)
         p.declare("ignore_filter", False, "ignore predicate and forward all solutions")
