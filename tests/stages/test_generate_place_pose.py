@@ -168,6 +168,29 @@ def test_object_must_be_attached(make_task, holding, attached, obj, message):
     assert [f.comment for f in g.failures] == [message]
 
 
+def test_subframe_or_robot_link_as_object(make_task, holding):
+    """MTC takes any frame on the robot: a subframe of the held object or a robot link. Only an
+    attached object named itself has a shape to turn by, so the others get the fallback: the
+    pose and its flip, with ik_frame at that frame."""
+    scene = holding()
+    msg = _object_msg("object", _prim(msgs.SolidPrimitive.CYLINDER, [0.1, 0.02]))
+    msg.subframe_names = ["tip"]
+    msg.subframe_poses = [msgs.Pose(position=msgs.Point(z=0.05), orientation=msgs.Quaternion(w=1.0))]
+    scene.apply_collision_object(msg)
+    scene.attach_object("object", "panda_hand", ["panda_leftfinger", "panda_rightfinger"])
+    for obj, count in [("object", 10), ("object/tip", 2), ("panda_hand", 2)]:
+        g = _generator(object=obj)
+        task = _task(make_task, scene, g)
+        task.plan()
+        assert len(g.solutions) == count, obj
+        assert not g.failures
+        frames = {s.end.properties["ik_frame"].header.frame_id for s in g.solutions}
+        assert frames == {obj}
+        if count == 2:  # the nominal pose, then flipped half a turn about x
+            second = msgs.pose_to_matrix(g.solutions[1].end.properties["target_pose"].pose)
+            np.testing.assert_allclose(second[:3, :3], np.diag([1.0, -1.0, -1.0]), atol=1e-12)
+
+
 def test_unknown_pose_frame(make_task, holding):
     """The place pose in an unknown frame: failure "Unknown frame: 'X'"."""
     g = _generator()

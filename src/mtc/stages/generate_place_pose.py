@@ -8,7 +8,8 @@ How many turns depends on the object's shape (symmetry):
 
 * a single cylinder or sphere: 10 turns of 2π/10;
 * a single box: 4 turns of π/2 if its x and y sizes are equal, else 2 turns of π;
-* anything else: the pose itself and the pose flipped upside down (half turn about x).
+* anything else (several shapes, a mesh, a subframe of the object or a robot link as
+  ``object``): the pose itself and the pose flipped upside down (half turn about x).
 
 With ``allow_z_flip`` the turns are repeated for the object flipped upside down.
 
@@ -82,7 +83,8 @@ class GeneratePlacePose(GeneratePose):
         name: Stage name.
 
     Properties:
-        object: Name of the attached object to place (required).
+        object: Name of the attached object to place (required); also one of its subframes
+            (``"object/subframe"``) or a robot link.
         pose: ``PoseStamped`` the object's frame should reach (an empty frame means the
             planning frame).
         allow_z_flip: Also place the object upside down (default False).
@@ -120,7 +122,9 @@ class GeneratePlacePose(GeneratePose):
         if not scene.knows_frame_transform(obj):  # (semantics §2.11's two messages)
             self.failOrWarn(scene, f"frame '{obj}' is not known")
             return
-        if obj.partition("/")[0] not in scene.attached_object_names:
+        # a robot link, an attached object or one of its subframes (MoveIt's RobotState frames)
+        on_robot = obj.partition("/")[0] in scene.attached_object_names or scene.robot_model.has_link_model(obj)
+        if not on_robot:
             self.failOrWarn(scene, f"frame '{obj}' is not attached to the robot")
             return
         super().onNewSolution(solution)
@@ -139,8 +143,10 @@ class GeneratePlacePose(GeneratePose):
             return
         nominal = (scene.get_frame_transform(frame) if frame else np.eye(4)) @ msgs.pose_to_matrix(goal.pose)
 
-        attached = scene.get_attached_object(obj.partition("/")[0])
-        z_rotations, forced_flips = place_pose_turns(attached.object.shapes)
+        # the shape's symmetry counts only for an attached object named itself; a subframe or a
+        # robot link gets MTC's fallback (the pose and its flip)
+        shapes = scene.get_attached_object(obj).object.shapes if obj in scene.attached_object_names else []
+        z_rotations, forced_flips = place_pose_turns(shapes)
         z_flips = forced_flips if forced_flips is not None else (1 if p.get("allow_z_flip") else 0)
 
         ik_frame = msgs.PoseStamped(
