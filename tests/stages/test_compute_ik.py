@@ -75,6 +75,48 @@ def test_defaults():
         ik.ik_frame = 3
 
 
+def test_target_pose_initialization_is_the_users_to_configure(make_task):
+    """As in MTC, the constructor configures no source for target_pose, so a script may take it
+    from the parent (or configure all properties from it); without any configuration the
+    child's target_pose is still used (beyond MTC, which fails with "undefined")."""
+    Source = core.Stage.PropertyInitializerSource
+    ik = stages.ComputeIK("ik", stages.GeneratePose("gen"))
+    assert not ik.properties.property("target_pose").initsFrom(Source.PARENT | Source.INTERFACE)
+    ik.properties.configureInitFrom(Source.PARENT)  # every property from the parent
+    assert ik.properties.property("target_pose").initsFrom(Source.PARENT)
+
+    # PARENT: the container's target wins over the generator's
+    reachable = _pose("panda_link8")
+    parent_target = _pose("world", x=0.4, y=0.1, z=0.5, q=(1.0, 0.0, 0.0, 0.0))
+
+    def from_parent(stage):
+        stage.properties.property("target_pose").configureInitFrom(Source.PARENT)
+
+    task, ik = _ik_task_without_interface(make_task, reachable, from_parent)
+    task.properties.declare("target_pose", parent_target, "")
+    assert task.plan()
+    np.testing.assert_allclose(_frame(ik.solutions[0], "panda_link8")[:3, 3], [0.4, 0.1, 0.5], atol=1e-4)
+
+    # no configuration: the generator's target
+    task, ik = _ik_task_without_interface(make_task, reachable, None)
+    assert task.plan()
+    start = mtc.current_scene().get_frame_transform("panda_link8")
+    np.testing.assert_allclose(_frame(ik.solutions[0], "panda_link8"), start, atol=1e-4)
+
+
+def _ik_task_without_interface(make_task, pose, configure):
+    current = stages.CurrentState("current state")
+    generator = stages.GeneratePose("cartesian pose")
+    generator.setMonitoredStage(current)
+    generator.pose = pose
+    ik = stages.ComputeIK("compute IK", generator)
+    ik.group = "panda_arm"
+    if configure:
+        configure(ik)
+    connect = stages.Connect("connect", [("panda_arm", core.JointInterpolationPlanner())])
+    return make_task(current, connect, ik), ik
+
+
 def test_setters():
     """C++ setters: setIKFrame and setTargetPose overloads, and the scalar ones."""
     ik = stages.ComputeIK("ik", stages.GeneratePose())

@@ -4,7 +4,9 @@ MTC's ``stages/compute_ik.h`` (semantics §2.3). ComputeIK wraps a generator (us
 ``GeneratePose`` family) whose states carry a ``target_pose`` (and possibly an ``ik_frame``)
 property. For each of the child's solutions, cheapest first, it
 
-1. inherits ``target_pose`` etc. from the solution's state (``configureInitFrom(INTERFACE, ...)``),
+1. inherits the properties configured for it (``configureInitFrom(INTERFACE, ["target_pose"])``)
+   from the solution's state; a ``target_pose`` neither set nor configured is read from that
+   state too (MTC would fail: "Property 'target_pose': undefined"),
 2. resolves the end effector / group, the target in the planning frame and the IK frame
    (a link, an attached object or an object's subframe, plus an offset on it),
 3. unless ``ignore_collisions``, checks the end-effector links placed at the target against
@@ -119,8 +121,6 @@ class ComputeIK(WrapperBase):
         p.declare("seed", 0, "seed of the random IK restarts", type=int)
         p.declare("max_ik_attempts", 20, "IK descents (the first from the start state) per wanted solution",
                   type=unsigned_int)
-        # the generator's states carry the target (MTC's demos configure this explicitly)
-        p.configureInitFrom(Stage.INTERFACE, ["target_pose"])
         self._upstream = SolutionQueue()
         self._consumed = 0
 
@@ -210,6 +210,17 @@ class ComputeIK(WrapperBase):
         solution.markers.extend(markers)
         self.spawn(InterfaceState(scene if scene is not None else s.start.scene.diff()), solution)
 
+    def _target_pose(self, s: SolutionBase):
+        """``target_pose`` as MTC reads it, or, when it is neither set nor configured to come
+        from anywhere, the one on the child's state (MTC needs
+        ``configureInitFrom(INTERFACE, ["target_pose"])`` for that; leaving the property
+        unconfigured keeps the user's own configuration free, as in MTC)."""
+        p = self.properties
+        value = p.get("target_pose", None)
+        if value is None and not p.property("target_pose").initsFrom(Stage.PARENT | Stage.INTERFACE):
+            value = s.start.properties.get("target_pose", None)
+        return value if value is not None else p.get("target_pose")  # undefined: MTC's error
+
     def _solve(self, s: SolutionBase) -> None:
         p = self.properties
         p.performInitFrom(Stage.INTERFACE, s.start.properties)
@@ -233,7 +244,7 @@ class ComputeIK(WrapperBase):
         p.property("timeout").setDefaultValue(float(jmg.default_ik_timeout) * max_attempts)
 
         # 3. target pose in the planning frame
-        target_msg = msgs.from_dict(msgs.PoseStamped, msgs.to_dict(p.get("target_pose")))
+        target_msg = msgs.from_dict(msgs.PoseStamped, msgs.to_dict(self._target_pose(s)))
         frame = target_msg.header.frame_id
         if not frame:
             target_msg.header.frame_id = frame = scene.planning_frame
