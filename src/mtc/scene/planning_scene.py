@@ -1177,6 +1177,8 @@ class PlanningScene:
         moved = env._attached_on(moved_links) | moved_links
         shift = pin.SE3(delta)
         request = coal.CollisionRequest()
+        request.gjk_tolerance = GJK_TOLERANCE  # the fast checks' settings (see CONTACT_MARGIN)
+        request.security_margin = CONTACT_MARGIN
         found: list[tuple[str, str]] = []
         for i, j in env.pairs:
             (a, ka), (b, kb) = (env.bodies[i], env.kinds[i]), (env.bodies[j], env.kinds[j])
