@@ -287,30 +287,39 @@ def test_failure_comments(make_task, start_scene, move, configure, message):
     assert move.failures[0].comment == message
 
 
-def test_frames_not_on_the_robot_are_taken_on_the_group_tip(make_task, start_scene, move, box):
-    """As MTC's getRobotTipForFrame: an ik_frame in a world object's frame (or an empty frame_id:
-    relative to the tip) is that pose where it is now, carried along by the group's tip."""
-    start_scene.apply_collision_object(box("crate", (0.6, 0.4, 0.8)))
+def test_empty_ik_frame_id_is_taken_on_the_group_tip(make_task, start_scene, move):
+    """As MTC's getRobotTipForFrame: an ik_frame with an empty frame_id is that pose relative to
+    the group's tip, carried along by it."""
     tip0 = start_scene.current_state.get_global_link_transform("panda_link8")
-    crate = start_scene.get_frame_transform("crate")
     goal = tip0.copy()
     goal[2, 3] -= 0.05  # the tip 5 cm lower: so is any frame carried along by it
-    cases = {
-        "crate": (msgs.PoseStamped(header=msgs.Header(frame_id="crate"), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))),
-                  crate),
-        "": (msgs.PoseStamped(pose=msgs.Pose(position=msgs.Point(z=0.1), orientation=msgs.Quaternion(w=1.0))),
-             tip0 @ msgs.pose_to_matrix(msgs.Pose(position=msgs.Point(z=0.1), orientation=msgs.Quaternion(w=1.0)))),
-    }
-    for frame, (ik_frame, ik_pose) in cases.items():
-        m = stages.MoveTo(f"move {frame or 'tip'}", core.JointInterpolationPlanner())
+    offset = msgs.Pose(position=msgs.Point(z=0.1), orientation=msgs.Quaternion(w=1.0))
+    m = stages.MoveTo("move tip", core.JointInterpolationPlanner())
+    m.group = "panda_arm"
+    m.ik_frame = msgs.PoseStamped(pose=offset)
+    target = goal @ msgs.pose_to_matrix(offset)  # where the ik frame is when the tip is at goal
+    m.setGoal(msgs.PoseStamped(header=msgs.Header(frame_id="world"), pose=msgs.matrix_to_pose(target)))
+    task = make_task(stages.FixedState("start", start_scene), m)
+    assert task.plan(), [f.comment for f in m.failures]
+    reached = m.solutions[0].end.scene.current_state.get_global_link_transform("panda_link8")
+    np.testing.assert_allclose(reached[:3, 3], goal[:3, 3], atol=1e-4)
+
+
+def test_ik_frame_of_a_world_object_is_unknown(make_task, start_scene, box):
+    """MTC looks the ik_frame up in the robot state (RobotState::getFrameInfo), which knows
+    links and attached objects only: a world object's frame is an unknown frame."""
+    start_scene.apply_collision_object(box("crate", (0.6, 0.4, 0.8)))
+    for cls, configure in [(stages.MoveTo, lambda m: m.setGoal(msgs.PoseStamped(header=msgs.Header(frame_id="world"),
+                                                                      pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))))),
+                           (stages.MoveRelative, lambda m: m.setDirection(
+                               msgs.Vector3Stamped(header=msgs.Header(frame_id="world"), vector=msgs.Vector3(z=0.05))))]:
+        m = cls("move crate", core.CartesianPath())
         m.group = "panda_arm"
-        m.ik_frame = ik_frame
-        target = goal @ np.linalg.solve(tip0, ik_pose)  # where the ik frame is when the tip is at goal
-        m.setGoal(msgs.PoseStamped(header=msgs.Header(frame_id="world"), pose=msgs.matrix_to_pose(target)))
+        m.ik_frame = msgs.PoseStamped(header=msgs.Header(frame_id="crate"), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
+        configure(m)
         task = make_task(stages.FixedState("start", start_scene), m)
-        assert task.plan(), (frame, [f.comment for f in m.failures])
-        reached = m.solutions[0].end.scene.current_state.get_global_link_transform("panda_link8")
-        np.testing.assert_allclose(reached[:3, 3], goal[:3, 3], atol=1e-4)
+        assert not task.plan()
+        assert [f.comment for f in m.failures] == ["ik_frame specified in unknown frame 'crate'"], cls.__name__
 
 
 # ------------------------------------------------------------------------------ directions

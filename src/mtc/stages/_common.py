@@ -223,13 +223,15 @@ def resolve_ik_frame(scene, ik_frame: msgs.PoseStamped | None, group=None) -> IK
         ik_frame: The ``ik_frame`` property (None: undefined).
         group: ``JointModelGroup`` used when ``ik_frame`` is None: its only end-effector tip.
 
-    A frame that is not fixed to the robot (an empty ``frame_id``, the planning frame, a world
-    object) is taken, as in MTC, on the group's end-effector tip: the ik frame is the pose in
-    that frame (an empty ``frame_id``: relative to the tip), carried along by the tip.
+    An empty ``frame_id`` or the planning frame is taken, as in MTC, on the group's
+    end-effector tip: the ik frame is the pose in that frame (an empty ``frame_id``: relative
+    to the tip), carried along by the tip. A world object is unknown to the robot state MTC
+    looks the frame up in, so it is an unknown frame.
 
     Raises:
         MissingIKFrameError: No ``ik_frame`` and no unique tip in ``group``.
-        UnknownFrameError: As :func:`resolve_frame` (a non-empty unknown frame).
+        UnknownFrameError: A non-empty frame that is neither the planning frame nor on the
+            robot (a link, an attached object or its subframe).
         NotALinkFrameError: The frame is not fixed to the robot and ``group`` has no unique tip.
         TypeError: ``ik_frame`` is not a ``PoseStamped``.
     """
@@ -247,6 +249,8 @@ def resolve_ik_frame(scene, ik_frame: msgs.PoseStamped | None, group=None) -> IK
     try:
         link, frame_offset = resolve_frame(scene, frame)
     except NotALinkFrameError:
+        if frame and frame != scene.planning_frame:
+            raise UnknownFrameError(frame) from None  # a world object
         if tip is None:
             raise
         tip_pose = state.get_global_link_transform(tip)
