@@ -152,6 +152,14 @@ def test_init_errors(make_task, props, message):
         task.init()
 
 
+def test_unknown_eef_and_group_are_two_init_errors(make_task):
+    """MTC pushes one entry per problem."""
+    task, _ = _ik_task(make_task, _pose(z=0.1), eef="claw", group="legs")
+    with pytest.raises(core.InitStageError) as e:
+        task.init()
+    assert str(e.value).endswith("compute IK: Unknown end effector: claw\ncompute IK: Unknown group: legs")
+
+
 def test_seed_compute_ik(make_task):
     """The seed's compute_ik.py (pose 0.2 m along panda_link8's z, 4 IK solutions): the IK frame
     reaches the target in every solution, the solutions are distinct and cost-ordered."""

@@ -162,14 +162,13 @@ class ComputeIK(WrapperBase):
     def init(self, robot_model) -> None:
         errors = InitStageError.collect(super().init, robot_model)
         # eef and group may also come from the interface; validate what is known now
-        _, _, msg = self._groups(robot_model)
-        if msg:
-            errors.push_back(self, msg)
+        for problem in self._groups(robot_model)[2]:  # one entry each, as MTC
+            errors.push_back(self, problem)
         if errors:
             raise errors
 
     def _groups(self, robot_model):
-        """``(eef, group JointModelGroup or None, error message or "")``."""
+        """``(eef, group JointModelGroup or None, list of problems)``."""
         p = self.properties
         eef = p.get("eef", None)
         group = p.get("group", None)
@@ -188,7 +187,7 @@ class ComputeIK(WrapperBase):
                 problems.append(f"Unknown group: {group}")
         elif eef_model is not None:
             jmg = robot_model.get_joint_model_group(eef_model.parent_group)
-        return eef_model, jmg, "; ".join(problems)
+        return eef_model, jmg, problems
 
     # --- computing ----------------------------------------------------------------------
     def onNewSolution(self, solution: SolutionBase) -> None:
@@ -228,9 +227,9 @@ class ComputeIK(WrapperBase):
         model = scene.robot_model
 
         # 1. end effector and group
-        eef_model, jmg, msg = self._groups(model)
-        if msg:
-            self._fail(s, msg)
+        eef_model, jmg, problems = self._groups(model)
+        if problems:
+            self._fail(s, problems[0])  # MTC stops at the first
             return
         if jmg is None:
             self._fail(s, "Neither eef nor group are well defined")
