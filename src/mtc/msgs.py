@@ -101,6 +101,7 @@ __all__ = [
     "Constraints",
     "RobotTrajectory",
     "WorkspaceParameters",
+    "MotionPlanRequest",
     "AllowedCollisionEntry",
     "AllowedCollisionMatrix",
     "LinkPadding",
@@ -643,6 +644,34 @@ class WorkspaceParameters(_Message):
     header: Header = field(default_factory=Header)
     min_corner: Vector3 = field(default_factory=Vector3)
     max_corner: Vector3 = field(default_factory=Vector3)
+
+
+@_message
+class MotionPlanRequest(_Message):
+    """``moveit_msgs/MotionPlanRequest``: a planning request as MoveIt's planners take it.
+
+    As in MTC, it is not a property type: assigning one to an untyped property raises
+    ``TypeError``.
+    """
+
+    workspace_parameters: WorkspaceParameters = field(default_factory=WorkspaceParameters)
+    start_state: RobotState = field(default_factory=RobotState)
+    goal_constraints: list[Constraints] = field(default_factory=list)
+    path_constraints: Constraints = field(default_factory=Constraints)
+    trajectory_constraints: list[Constraints] = field(default_factory=list)
+    reference_trajectories: list[RobotTrajectory] = field(default_factory=list)
+    pipeline_id: str = ""
+    planner_id: str = ""
+    group_name: str = ""
+    num_planning_attempts: int = 0
+    allowed_planning_time: float = 0.0
+    max_velocity_scaling_factor: float = 0.0
+    max_acceleration_scaling_factor: float = 0.0
+    cartesian_speed_limited_link: str = ""
+    max_cartesian_speed: float = 0.0
+
+    #: MTC registers no property conversion for this message (its binding test relies on it)
+    _PROPERTY_TYPE: ClassVar[bool] = False
 
 
 @_message

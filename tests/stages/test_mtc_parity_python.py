@@ -6,9 +6,7 @@ Ported with the porting rule of api.md (imports only); robot-specific parts run 
 
 Not ported (they test pybind11 details that api.md deliberately changes or that have no
 counterpart here): ``ContainerTest.test_move`` and the ``ValueError`` on a stage's name after
-``task.add()`` (api.md: a stage stays usable after it is added), the ``MotionPlanRequest``
-property assignment (no such message type in ``mtc.msgs``; a pure-Python PropertyMap needs no
-converter registry), and the pybind11 ABI checks.
+``task.add()`` (api.md: a stage stays usable after it is added), and the pybind11 ABI checks.
 """
 
 from __future__ import annotations
@@ -18,7 +16,17 @@ import sys
 import pytest
 
 from mtc import PlanningScene, core, stages
-from mtc.msgs import Constraints, Header, PointStamped, PoseStamped, RobotState, TwistStamped, Vector3, Vector3Stamped
+from mtc.msgs import (
+    Constraints,
+    Header,
+    MotionPlanRequest,
+    PointStamped,
+    PoseStamped,
+    RobotState,
+    TwistStamped,
+    Vector3,
+    Vector3Stamped,
+)
 
 PLANNING_GROUP = "panda_arm"
 
@@ -44,6 +52,9 @@ def test_property_map_assign(props):
     _check_prop(props, "bool", False)
     _check_prop(props, "string", "anything")
     _check_prop(props, "pose", PoseStamped())
+    # MotionPlanRequest is not registered as property type and should raise
+    with pytest.raises(TypeError):
+        _check_prop(props, "request", MotionPlanRequest())
 
 
 def test_property_map_assign_in_reference():

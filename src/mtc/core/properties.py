@@ -38,6 +38,17 @@ def _not_none(value, what: str) -> None:
     if value is None:
         raise TypeError(f"{what}: None is not a property value (give a value of the property's type)")
 
+
+def _convertible(value, what: str) -> None:
+    """MTC's binding converts only registered types; a message it registers no conversion for
+    (``msgs.MotionPlanRequest``) raises TypeError, as there."""
+    if getattr(type(value), "_PROPERTY_TYPE", True) is False:
+        raise TypeError(
+            f"{what}: no conversion available for property type {type(value).__name__} "
+            "(MTC registers none for it; store the fields you need instead)"
+        )
+
+
 class PropertyInitializerSource(IntFlag):
     """Where a property may be initialized from (MTC's ``Stage::PropertyInitializerSource``)."""
 
@@ -244,9 +255,11 @@ class Property:
         """Set current *and* default value; survives :meth:`reset` (a manual, persistent value).
 
         Raises:
-            TypeError: ``value`` is None (as MTC's binding: None has no C++ value).
+            TypeError: ``value`` is None (as MTC's binding: None has no C++ value), or a
+                message MTC has no property conversion for.
         """
         _not_none(value, "Property.setValue")
+        _convertible(value, "Property.setValue")
         self._setValue(value)
 
     def _setValue(self, value) -> None:
@@ -566,6 +579,7 @@ class PropertyMap:
 
     def __setitem__(self, name: str, value) -> None:
         _not_none(value, f"properties['{name}'] = ...")
+        _convertible(value, f"properties['{name}'] = ...")
         self.set(name, value)
 
     def __contains__(self, name) -> bool:
@@ -593,6 +607,7 @@ class PropertyMap:
         """``set()`` every item of ``values`` (none of them may be None: then nothing is set)."""
         for k, v in values.items():
             _not_none(v, f"update() of property '{k}'")
+            _convertible(v, f"update() of property '{k}'")
         for k, v in values.items():
             self.set(k, v)
 
