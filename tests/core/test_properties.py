@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 from mockups import ForwardMockup, GeneratorMockup, add
 
-from mtc import core
+from mtc import core, msgs
 from mtc.core import Property, PropertyError, PropertyMap
 from mtc.core.properties import PropertyTypeError, UndeclaredPropertyError, UndefinedPropertyError, unsigned_int
 
@@ -449,3 +449,22 @@ def test_user_subclasses_keep_attributes_of_their_own():
     c.timeout = 2.0  # a property still type-checks
     with pytest.raises(TypeError):
         c.timeout = "long"
+
+
+@pytest.mark.parametrize("value", [object(), [1.0], {"a": 1.0}, {"a"}, (1, 2), msgs.MotionPlanRequest()])
+def test_dictionary_api_takes_the_types_mtc_converts(value):
+    """MTC's binding converts bool, numbers, strings and registered messages only; anything else
+    given through map[key] = v or update() raises TypeError, and update() sets nothing then."""
+    props = PropertyMap()
+    with pytest.raises(TypeError, match="no conversion available"):
+        props["x"] = value
+    with pytest.raises(TypeError, match="no conversion available"):
+        props.update({"ok": 1.0, "x": value})
+    assert "ok" not in props and "x" not in props
+    for i, fine in enumerate((True, 3, 2.5, "s", msgs.PoseStamped())):
+        props[f"y{i}"] = fine
+        assert props[f"y{i}"] == fine
+    # a property declared with a type takes any value of it, also through the dictionary
+    props.declare("f", None, type=frozenset)
+    props["f"] = frozenset({"a"})
+    assert props["f"] == frozenset({"a"})

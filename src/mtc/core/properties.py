@@ -40,13 +40,23 @@ def _not_none(value, what: str) -> None:
 
 
 def _convertible(value, what: str) -> None:
-    """MTC's binding converts only registered types; a message it registers no conversion for
-    (``msgs.MotionPlanRequest``) raises TypeError, as there."""
-    if getattr(type(value), "_PROPERTY_TYPE", True) is False:
-        raise TypeError(
-            f"{what}: no conversion available for property type {type(value).__name__} "
-            "(MTC registers none for it; store the fields you need instead)"
-        )
+    """A value given through MTC's dictionary-style API (``map[key] = value``, ``update()``)
+    for a property of no declared type must be of a type MTC's
+    binding converts: bool, a number, a string or a registered message
+    (``msgs.MotionPlanRequest`` is not one). Anything else raises TypeError, as there. A
+    property declared with a type takes any value of that type (beyond MTC, whose binding
+    cannot pass e.g. a planner through the dictionary)."""
+    from mtc import msgs  # (msgs does not import core)
+
+    if isinstance(value, (bool, numbers.Real, str)):
+        return
+    if isinstance(value, msgs._Message) and getattr(type(value), "_PROPERTY_TYPE", True):
+        return
+    raise TypeError(
+        f"{what}: no conversion available for property type {type(value).__name__} "
+        "(allowed: bool, int, float, str or a message of mtc.msgs other than MotionPlanRequest; "
+        "use the stage's attribute or PropertyMap.set() for other declared types)"
+    )
 
 
 class PropertyInitializerSource(IntFlag):
@@ -255,11 +265,9 @@ class Property:
         """Set current *and* default value; survives :meth:`reset` (a manual, persistent value).
 
         Raises:
-            TypeError: ``value`` is None (as MTC's binding: None has no C++ value), or a
-                message MTC has no property conversion for.
+            TypeError: ``value`` is None (as MTC's binding: None has no C++ value).
         """
         _not_none(value, "Property.setValue")
-        _convertible(value, "Property.setValue")
         self._setValue(value)
 
     def _setValue(self, value) -> None:
@@ -579,8 +587,13 @@ class PropertyMap:
 
     def __setitem__(self, name: str, value) -> None:
         _not_none(value, f"properties['{name}'] = ...")
-        _convertible(value, f"properties['{name}'] = ...")
+        self._check_convertible(name, value, f"properties['{name}'] = ...")
         self.set(name, value)
+
+    def _check_convertible(self, name: str, value, what: str) -> None:
+        p = self._props.get(name)
+        if p is None or p._type is None:
+            _convertible(value, what)
 
     def __contains__(self, name) -> bool:
         return name in self._props
@@ -607,7 +620,7 @@ class PropertyMap:
         """``set()`` every item of ``values`` (none of them may be None: then nothing is set)."""
         for k, v in values.items():
             _not_none(v, f"update() of property '{k}'")
-            _convertible(v, f"update() of property '{k}'")
+            self._check_convertible(k, v, f"update() of property '{k}'")
         for k, v in values.items():
             self.set(k, v)
 
