@@ -468,3 +468,22 @@ def test_dictionary_api_takes_the_types_mtc_converts(value):
     props.declare("f", None, type=frozenset)
     props["f"] = frozenset({"a"})
     assert props["f"] == frozenset({"a"})
+
+
+def test_keyword_names_of_mtcs_binding():
+    """MTC's binding names: configureInitFrom(sources, names), exposeTo(other, name[, other_name])
+    and exposeTo(other, names), property(key), Property.setDescription(desc)."""
+    props, other = PropertyMap(), PropertyMap()
+    props.declare("x", 1.0)
+    props.declare("y", 2.0)
+    props.configureInitFrom(sources=PARENT, names=["x"])
+    assert props.property(key="x").initsFrom(PARENT) and not props.property("y").initsFrom(PARENT)
+    props.exposeTo(other=other, name="x")
+    props.exposeTo(other=other, name="x", other_name="z")
+    props.exposeTo(other, names=["y"])
+    assert list(other) == ["x", "y", "z"]
+    with pytest.raises(TypeError, match="once"):
+        props.exposeTo(other, "x", name="x")
+    p = Property()
+    p.setDescription(desc="d")
+    assert p.description() == "d"

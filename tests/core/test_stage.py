@@ -102,12 +102,15 @@ def test_spawn_forms(t):
             self.spawn(core.InterfaceState(self.scene), core.SubTrajectory(None, 2.0, "sub"))
             self.spawn(core.InterfaceState(self.scene), core.InterfaceState(self.scene.diff()),
                        core.SubTrajectory(None, 3.0))
+            self.spawn(state=core.InterfaceState(self.scene), cost=4.0)  # MTC's keyword names
             with pytest.raises(TypeError, match="spawn"):
                 self.spawn(core.InterfaceState(self.scene), "bad")
+            with pytest.raises(TypeError, match="spawn"):
+                self.spawn(core.InterfaceState(self.scene), state=core.InterfaceState(self.scene), cost=1.0)
 
     t.add(Spawner())
     assert t.plan()
-    assert costs(t.solutions) == [1.0, 2.0, 3.0]
+    assert costs(t.solutions) == [1.0, 2.0, 3.0, 4.0]
     assert t.solutions[1].solutions[0].comment == "sub"
 
 
@@ -140,7 +143,7 @@ def test_python_monitoring_generator(t):
     current = add(t, GeneratorMockup())
     add(t, ConnectMockup())
     gen = add(t, PyMonitoringGenerator("generator"))
-    t["generator"].setMonitoredStage(t[current.name])
+    t["generator"].setMonitoredStage(stage=t[current.name])  # MTC's keyword name
     assert gen is t["generator"]
     assert t.plan()
     assert len(t.solutions) == PyMonitoringGenerator.solution_multiplier

@@ -318,9 +318,9 @@ class Property:
         """The description."""
         return self._description
 
-    def setDescription(self, description: str) -> None:
-        """Change the description."""
-        self._description = description
+    def setDescription(self, desc: str) -> None:
+        """Change the description (the keyword name is MTC's binding's)."""
+        self._description = desc
 
     def typeName(self) -> str:
         """Name of the declared type, or of the value's type for an untyped property."""
@@ -438,16 +438,16 @@ class PropertyMap:
         """Whether ``name`` is declared."""
         return name in self._props
 
-    def property(self, name: str) -> Property:
-        """The :class:`Property` object of ``name``.
+    def property(self, key: str) -> Property:
+        """The :class:`Property` object of ``key`` (the keyword name is MTC's binding's).
 
         Raises:
-            UndeclaredPropertyError: ``name`` is not declared.
+            UndeclaredPropertyError: ``key`` is not declared.
         """
         try:
-            return self._props[name]
+            return self._props[key]
         except KeyError:
-            raise UndeclaredPropertyError(name) from None
+            raise UndeclaredPropertyError(key) from None
 
     def set(self, name: str, value) -> None:
         """Set a persistent value, declaring the property with the value's type if needed."""
@@ -515,11 +515,13 @@ class PropertyMap:
         return m
 
     # --- initialization ---------------------------------------------------------------
-    def configureInitFrom(self, source: int, names: str | Iterable[str] | None = None) -> None:
-        """Initialize the listed (default: all) declared properties from ``source``.
+    def configureInitFrom(self, sources: int, names: str | Iterable[str] | None = None) -> None:
+        """Initialize the listed (default: all) declared properties from ``sources``.
 
-        Undeclared names are ignored, as in MTC. A single ``str`` is one name.
+        Undeclared names are ignored, as in MTC. A single ``str`` is one name. (The keyword
+        names are those of MTC's binding.)
         """
+        source = sources
         if isinstance(names, str):
             names = [names]
         wanted = None if names is None else set(names)
@@ -562,14 +564,26 @@ class PropertyMap:
                 raise
             p._initialized_from = source
 
-    def exposeTo(self, other: "PropertyMap", names: str | Iterable[str], other_name: str | None = None) -> None:
+    def exposeTo(
+        self,
+        other: "PropertyMap",
+        names: str | Iterable[str] | None = None,
+        other_name: str | None = None,
+        *,
+        name: str | None = None,
+    ) -> None:
         """Declare properties in ``other`` with the same type, description and default.
 
         Args:
             other: Target map.
-            names: One name or a list of names.
+            names: One name or a list of names (MTC's binding: ``name`` for one, ``names``
+                for a list; both keywords are taken).
             other_name: Name in ``other`` (only with a single name).
         """
+        if (names is None) == (name is None):
+            raise TypeError("exposeTo() takes the property name(s) once: exposeTo(other, name_or_names)")
+        if name is not None:
+            names = name
         if isinstance(names, str):
             pairs = [(names, other_name or names)]
         else:

@@ -736,13 +736,18 @@ class Generator(ComputeBase):
     def _compute(self) -> None:
         self.compute()
 
-    def spawn(self, *args, cost: float | None = None, solution: SolutionBase | None = None) -> None:
+    def spawn(self, *args, state: InterfaceState | None = None, cost: float | None = None,
+              solution: SolutionBase | None = None) -> None:
         """Publish a new state (or a pair of start and end states) with a solution.
 
         Forms: ``spawn(state, cost)``, ``spawn(state, solution)``,
         ``spawn(from_state, to_state, solution)`` (a cost may replace the solution, also
-        as keyword ``cost=``).
+        as keyword ``cost=``); ``state=`` and ``cost=`` are MTC's binding's keywords.
         """
+        if state is not None:
+            if args:
+                raise TypeError("spawn(): give the state either by position or as state=, not both")
+            args = (state,)
         if solution is not None and cost is not None:
             raise TypeError("spawn(): give either a solution or a cost, not both")
         extra = solution if solution is not None else cost
@@ -773,8 +778,9 @@ class MonitoringGenerator(Generator):
         self._cb = None
         self.setMonitoredStage(monitored)
 
-    def setMonitoredStage(self, monitored: Stage | None) -> None:
-        """Watch the solutions of ``monitored``."""
+    def setMonitoredStage(self, stage: Stage | None) -> None:
+        """Watch the solutions of ``stage`` (the keyword name is MTC's binding's)."""
+        monitored = stage
         if monitored is not None and not isinstance(monitored, Stage):
             raise TypeError(f"setMonitoredStage() expects a Stage, got {type(monitored).__name__}")
         if self._monitored is monitored:
