@@ -29,7 +29,9 @@ def test_defaults():
     assert isinstance(g.costTerm(), core.Constant) and g.costTerm().cost == 0.0
     assert g.properties.get("pose", None) is None
     with pytest.raises(TypeError):
-        g.pose = "panda_link8"
+        g.pose = 3
+    g.pose = "panda_link8"  # as MTC's message casters: a frame name is the identity pose there
+    assert g.pose.header.frame_id == "panda_link8" and g.pose.pose.orientation.w == 1.0
     g.setPose(_pose("panda_link8"))
     assert g.pose.header.frame_id == "panda_link8"
 

@@ -122,7 +122,9 @@ def test_set_ik_frame_forms():
     with pytest.raises(TypeError, match="setIKFrame"):
         m.setIKFrame(3)
     with pytest.raises(TypeError):
-        m.ik_frame = "panda_hand"  # the attribute is typed
+        m.ik_frame = 3  # the attribute is typed
+    m.ik_frame = "panda_link8"  # a frame name converts, as with MTC's message casters
+    assert m.ik_frame.header.frame_id == "panda_link8" and m.ik_frame.pose.orientation.w == 1.0
 
 
 def test_planner_type_is_checked():

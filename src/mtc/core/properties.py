@@ -196,6 +196,12 @@ def _coerce(value, declared):
             return int(value)
         if set in types and isinstance(value, frozenset):
             return set(value)
+        if isinstance(value, str):
+            from mtc import msgs  # (msgs does not import core)
+
+            if msgs.PoseStamped in types:
+                # as MTC's message casters: a frame name is the identity pose in that frame
+                return msgs.PoseStamped(header=msgs.Header(frame_id=value), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
     raise PropertyTypeError(_value_type_name(value), _type_name(declared))
 
 
