@@ -75,6 +75,15 @@ def test_seed_first_then_uniform_samples(make_task):
     np.testing.assert_allclose(p[:, 1:], np.tile(SEED[1:], (20, 1)))
 
 
+@pytest.mark.parametrize("timeout, count", [(1e-9, 2), (0.0, 1)])
+def test_any_positive_timeout_gives_one_sample(make_task, timeout, count):
+    """As MTC, the time is measured after each sample: a timeout > 0 always allows one."""
+    g = _generator(timeout=timeout)
+    g.sample_dimension(PoseDimension.X, 0.1)
+    assert _task(make_task, g).plan()
+    assert len(g.solutions) == count
+
+
 def test_each_dimension_keeps_its_width(make_task):
     """Fix of MTC's function-static distributions: X width 0.01 and Y width 0.4 are both honoured."""
     g = _generator()

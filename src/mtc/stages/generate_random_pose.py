@@ -169,11 +169,14 @@ class GenerateRandomPose(GeneratePose):
 
         spawn(seed_pose)
         max_solutions = p.get("max_solutions")
-        deadline = time.perf_counter() + p.get("timeout")
+        timeout = p.get("timeout")
+        start = time.perf_counter()
+        elapsed = 0.0  # as MTC: measured after each sample, so any timeout > 0 gives one
         count = 1
-        while count < max_solutions and time.perf_counter() < deadline:
+        while count < max_solutions and elapsed < timeout:
             count += 1
             T = seed
             for dim, sampler in self._samplers:
                 T = T @ _local_transform(dim, sampler(rng))
             spawn(pose_stamped(T, frame))
+            elapsed = time.perf_counter() - start
