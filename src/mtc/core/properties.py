@@ -201,7 +201,8 @@ def _coerce(value, declared):
 
             if msgs.PoseStamped in types:
                 # as MTC's message casters: a frame name is the identity pose in that frame
-                return msgs.PoseStamped(header=msgs.Header(frame_id=value), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
+                identity = msgs.Pose(orientation=msgs.Quaternion(w=1.0))
+                return msgs.PoseStamped(header=msgs.Header(frame_id=value), pose=identity)
     raise PropertyTypeError(_value_type_name(value), _type_name(declared))
 
 
