@@ -18,6 +18,8 @@ from collections.abc import Callable, Iterable
 from enum import IntFlag
 from typing import Any
 
+from mtc import msgs
+
 __all__ = [
     "Property",
     "PropertyError",
@@ -46,8 +48,6 @@ def _convertible(value, what: str) -> None:
     (``msgs.MotionPlanRequest`` is not one). Anything else raises TypeError, as there. A
     property declared with a type takes any value of that type (beyond MTC, whose binding
     cannot pass e.g. a planner through the dictionary)."""
-    from mtc import msgs  # (msgs does not import core)
-
     if isinstance(value, (bool, numbers.Real, str)):
         return
     if isinstance(value, msgs._Message) and getattr(type(value), "_PROPERTY_TYPE", True):
@@ -196,13 +196,10 @@ def _coerce(value, declared):
             return int(value)
         if set in types and isinstance(value, frozenset):
             return set(value)
-        if isinstance(value, str):
-            from mtc import msgs  # (msgs does not import core)
-
-            if msgs.PoseStamped in types:
-                # as MTC's message casters: a frame name is the identity pose in that frame
-                identity = msgs.Pose(orientation=msgs.Quaternion(w=1.0))
-                return msgs.PoseStamped(header=msgs.Header(frame_id=value), pose=identity)
+        if isinstance(value, str) and msgs.PoseStamped in types:
+            # as MTC's message casters: a frame name is the identity pose in that frame
+            identity = msgs.Pose(orientation=msgs.Quaternion(w=1.0))
+            return msgs.PoseStamped(header=msgs.Header(frame_id=value), pose=identity)
     raise PropertyTypeError(_value_type_name(value), _type_name(declared))
 
 
@@ -528,7 +525,6 @@ class PropertyMap:
         Undeclared names are ignored, as in MTC. A single ``str`` is one name. (The keyword
         names are those of MTC's binding.)
         """
-        source = sources
         if isinstance(names, str):
             names = [names]
         wanted = None if names is None else set(names)
@@ -537,7 +533,7 @@ class PropertyMap:
             if wanted and name not in wanted:
                 continue
             try:
-                p.configureInitFrom(source, name)
+                p.configureInitFrom(sources, name)
             except PropertyError as e:
                 e.setName(name)
                 raise

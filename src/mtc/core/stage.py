@@ -780,15 +780,14 @@ class MonitoringGenerator(Generator):
 
     def setMonitoredStage(self, stage: Stage | None) -> None:
         """Watch the solutions of ``stage`` (the keyword name is MTC's binding's)."""
-        monitored = stage
-        if monitored is not None and not isinstance(monitored, Stage):
-            raise TypeError(f"setMonitoredStage() expects a Stage, got {type(monitored).__name__}")
-        if self._monitored is monitored:
+        if stage is not None and not isinstance(stage, Stage):
+            raise TypeError(f"setMonitoredStage() expects a Stage, got {type(stage).__name__}")
+        if self._monitored is stage:
             return
         if self._monitored is not None and self._registered:
             self._monitored.removeSolutionCallback(self._cb)
             self._registered = False
-        self._monitored = monitored
+        self._monitored = stage
 
     def monitoredStage(self) -> Stage | None:
         """The monitored stage."""

@@ -547,7 +547,7 @@ class MotionChecker:
         # the group's shared geometry data and broad phase: margins are set for clearance
         # tests and set back to CONTACT_MARGIN right after (plain checks read the same data)
         self._gd, self._manager = env.checker(group)
-        self._zero = np.full((self._gm.ngeoms, self._gm.ngeoms), CONTACT_MARGIN)  # the plain checks' margins
+        self._plain_margins = np.full((self._gm.ngeoms, self._gm.ngeoms), CONTACT_MARGIN)
         self._bounds, self._movable, self._pair_bounds = env.motion_model()
         m = len(self._movable)
         # the movable geometries are usually the first ones (the robot's): a slice is cheaper
@@ -610,7 +610,7 @@ class MotionChecker:
             compute, pm, data, manager = self._compute, self._pm, self._data, self._manager
             return [i for i, q in enumerate(Q) if compute(pm, data, manager, q, True)]
         finally:
-            gd.setSecurityMargins(gm, self._zero, True, True)
+            gd.setSecurityMargins(gm, self._plain_margins, True, True)
 
     def motion_free(self, qa: np.ndarray, qb: np.ndarray, n: int = 1, min_margin: float = 1e-6,
                     free_check: float = 1e-2, intervals=None) -> tuple[bool, int]:

@@ -27,6 +27,7 @@ import numpy as np
 from mtc import msgs
 from mtc.core.stage import InitStageError
 from mtc.core.storage import InterfaceState, SolutionBase, SubTrajectory
+from mtc.stages._common import NotALinkFrameError, UnknownFrameError, resolve_frame
 from mtc.stages.generate_pose import GeneratePose, copy_pose_stamped, frame_marker, pose_stamped
 
 __all__ = ["GeneratePlacePose", "place_pose_turns"]
@@ -119,12 +120,14 @@ class GeneratePlacePose(GeneratePose):
     def onNewSolution(self, solution: SolutionBase) -> None:
         scene = solution.end.scene
         obj = self.properties.get("object")
-        if not scene.knows_frame_transform(obj):  # (semantics §2.11's two messages)
+        # semantics §2.11's two messages; on the robot are its links, the attached objects
+        # and their subframes (MoveIt's RobotState frames)
+        try:
+            resolve_frame(scene, obj)
+        except UnknownFrameError:
             self.failOrWarn(scene, f"frame '{obj}' is not known")
             return
-        # a robot link, an attached object or one of its subframes (MoveIt's RobotState frames)
-        on_robot = obj.partition("/")[0] in scene.attached_object_names or scene.robot_model.has_link_model(obj)
-        if not on_robot:
+        except NotALinkFrameError:
             self.failOrWarn(scene, f"frame '{obj}' is not attached to the robot")
             return
         super().onNewSolution(solution)
