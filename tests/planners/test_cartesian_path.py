@@ -218,9 +218,31 @@ def test_joint_goal_ik_frame_errors(ready_scene):
     planner.setIKFrame("nowhere")
     result, _ = planner.plan(ready_scene, goal, "panda_arm", 1.0)
     assert result == PlannerResult(False, "CartesianPath: ik_frame specified in unknown frame 'nowhere'")
-    planner.setIKFrame("world")
-    result, _ = planner.plan(ready_scene, goal, "panda_arm", 1.0)
+    planner.setIKFrame("world")  # not on the robot, and "hand" has no unique tip to fall back on
+    result, _ = planner.plan(ready_scene, goal, "hand", 1.0)
     assert result == PlannerResult(False, "CartesianPath: ik_frame doesn't specify a link frame")
+
+
+@pytest.mark.parametrize("frame", ["", "world"])
+def test_joint_goal_ik_frame_off_the_robot_moves_with_the_tip(ready_scene, frame):
+    """As MTC's getRobotTipForFrame (shared with MoveTo): an ik_frame given in the planning frame,
+    or with an empty frame (relative to the tip), is carried by the group's unique tip."""
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    ahead = np.eye(4)
+    ahead[2, 3] = 0.2  # 20 cm in front of the flange
+    pose = T0 @ ahead if frame == "world" else ahead
+    planner = CartesianPath()
+    planner.setIKFrame(msgs.PoseStamped(header=msgs.Header(frame_id=frame), pose=msgs.matrix_to_pose(pose)))
+    goal = ready_scene.diff()
+    q6 = ready_scene.current_state.joint_positions["panda_joint6"]
+    goal.current_state.set_variable_positions({"panda_joint1": 0.3, "panda_joint6": q6 - 0.4})  # tilts the hand
+    T1 = goal.current_state.get_global_link_transform("panda_link8")
+    result, traj = planner.plan(ready_scene, goal, "panda_arm", 1.0)
+    assert result, result.message
+    assert np.allclose(traj[-1].get_global_link_transform("panda_link8"), T1, atol=1e-5)
+    # the frame 20 cm ahead moves straight (the flange itself does not: the hand turns)
+    assert _deviation(traj, T0 @ ahead, T1 @ ahead, offset=ahead)[0] <= 0.001
+    assert _deviation(traj, T0, T1)[0] > 2 * CartesianPrecision().translational
 
 
 def test_cartesian_speed_limit(ready_scene):

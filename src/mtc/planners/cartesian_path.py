@@ -23,11 +23,11 @@ import pinocchio as pin
 from mtc import msgs
 from mtc.planners import ik
 from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult, to_pose_stamped
+from mtc.scene.frames import FrameError, resolve_ik_frame, rigid_inverse
 from mtc.scene.planning_scene import PlanningScene
-from mtc.scene.robot_model import JointModelGroup
 from mtc.scene.robot_trajectory import RobotTrajectory
 
-__all__ = ["CartesianPath", "CartesianPrecision", "ik_frame_link"]
+__all__ = ["CartesianPath", "CartesianPrecision"]
 
 
 @dataclass
@@ -63,44 +63,6 @@ class CartesianPrecision:
 def _ik_frame(value):
     # the attribute also takes a link name, as setIKFrame(link) does
     return to_pose_stamped(value) if isinstance(value, str) else value
-
-
-def _rigid_inverse(T: np.ndarray) -> np.ndarray:
-    inv = np.eye(4)
-    inv[:3, :3] = T[:3, :3].T
-    inv[:3, 3] = -T[:3, :3].T @ T[:3, 3]
-    return inv
-
-
-def ik_frame_link(scene: PlanningScene, ik_frame: msgs.PoseStamped | None, jmg: JointModelGroup):
-    """The link to move and the IK frame's offset from it (MTC's ``getRobotTipForFrame``).
-
-    Returns:
-        ``(link, offset 4x4, None)`` or ``(None, None, error message)``.
-    """
-    state = scene.current_state
-    model = scene.robot_model
-    if ik_frame is None:
-        tips = list(jmg.end_effector_tips)
-        if len(tips) != 1:
-            return None, None, "missing ik_frame"
-        return tips[0], np.eye(4), None
-    frame = ik_frame.header.frame_id
-    if not state.knows_frame_transform(frame):
-        return None, None, f"ik_frame specified in unknown frame '{frame}'"
-    if model.has_link_model(frame):
-        link = frame
-    else:
-        attached = state.get_attached_frame(frame)
-        if attached is None:
-            return None, None, "ik_frame doesn't specify a link frame"
-        link = attached[0]
-    link = model.rigid_parent_link(link)[0]
-    if link not in model.link_model_names:  # the model frame ("world") is no link
-        return None, None, "ik_frame doesn't specify a link frame"
-    tip = state.get_frame_transform(frame) @ msgs.pose_to_matrix(ik_frame.pose)
-    offset = _rigid_inverse(state.get_global_link_transform(link)) @ tip
-    return link, offset, None
 
 
 class CartesianPath(PlannerInterface):
@@ -167,12 +129,13 @@ class CartesianPath(PlannerInterface):
     ) -> tuple[PlannerResult, RobotTrajectory | None]:
         """Move the IK frame on a straight line to its pose in ``to_scene``'s robot state."""
         jmg = self._group(from_scene, group)
-        link, offset, error = ik_frame_link(from_scene, self.properties.get("ik_frame", None), jmg)
-        if error:
-            return PlannerResult(False, f"CartesianPath: {error}"), None
-        target = to_scene.current_state.get_global_link_transform(link) @ offset
+        try:
+            ik = resolve_ik_frame(from_scene, self.properties.get("ik_frame", None), jmg)
+        except FrameError as e:
+            return PlannerResult(False, f"CartesianPath: {e}"), None
+        target = to_scene.current_state.get_global_link_transform(ik.link) @ ik.offset
         return self.plan_to_pose(
-            from_scene, link, offset, target, jmg.name, self._effective_timeout(timeout), path_constraints
+            from_scene, ik.link, ik.offset, target, jmg.name, self._effective_timeout(timeout), path_constraints
         )
 
     def plan_to_pose(
@@ -201,7 +164,7 @@ class CartesianPath(PlannerInterface):
         start = from_scene.current_state.copy()
         ik_link, tip_offset = ik.resolve_tip(start, jmg.name, link)
         frame_offset = tip_offset @ np.asarray(offset, dtype=float)
-        inv_offset = pin.SE3(_rigid_inverse(frame_offset))
+        inv_offset = pin.SE3(rigid_inverse(frame_offset))
         solver = ik.get_ik_solver(start.robot_model, jmg.name, ik_link)
         to_frame = pin.SE3(frame_offset)
 

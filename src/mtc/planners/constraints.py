@@ -32,7 +32,6 @@ read as 1.0, as MoveIt does. Visibility constraints are not supported (a ``Value
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np

@@ -32,6 +32,7 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
+from mtc.scene.frames import rigid_inverse
 from mtc.scene.robot_model import RobotModel
 from mtc.scene.robot_state import RobotState, as_rng
 
@@ -75,15 +76,6 @@ def as_pose_matrix(pose, state: RobotState | None = None, what: str = "pose") ->
     raise TypeError(
         f"{what} must be a 4x4 array, pin.SE3, msgs.Pose or msgs.PoseStamped, not {type(pose).__name__}"
     )
-
-
-def _inverse(T: np.ndarray) -> np.ndarray:
-    """Inverse of a rigid 4x4 transform."""
-    inv = np.eye(4)
-    R = T[:3, :3]
-    inv[:3, :3] = R.T
-    inv[:3, 3] = -R.T @ T[:3, 3]
-    return inv
 
 
 class IKSolver:
@@ -391,7 +383,7 @@ def solve_ik(
     target = as_pose_matrix(pose, state)
     link, tip_offset = resolve_tip(state, group, tip)
     total = tip_offset if offset is None else tip_offset @ np.asarray(offset, dtype=float)
-    link_target = target @ _inverse(total)
+    link_target = target @ rigid_inverse(total)
     solver = get_ik_solver(state.robot_model, group, link)
     def make_state(q: np.ndarray) -> RobotState:
         s = state.copy()  # keeps the frames of attached objects

@@ -46,6 +46,7 @@ from mtc.planners.time_parameterization import (
     synchronized_ptp,
     time_parameterize,
 )
+from mtc.scene.frames import rigid_inverse
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
@@ -87,13 +88,6 @@ class CartesianLimits:
                 raise ValueError(f"CartesianLimits.{name} must be positive, got {getattr(self, name)}")
         if not self.max_trans_dec < 0:
             raise ValueError(f"CartesianLimits.max_trans_dec must be negative, got {self.max_trans_dec}")
-
-
-def _rigid_inverse(T: np.ndarray) -> np.ndarray:
-    inv = np.eye(4)
-    inv[:3, :3] = T[:3, :3].T
-    inv[:3, 3] = -T[:3, :3].T @ T[:3, 3]
-    return inv
 
 
 def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
@@ -394,7 +388,7 @@ class PilzPipeline:
         ik_link, tip_offset = ik.resolve_tip(start, jmg.name, link)
         frame_offset = tip_offset @ offset
         to_frame = pin.SE3(frame_offset)
-        inv_offset = pin.SE3(_rigid_inverse(frame_offset))
+        inv_offset = pin.SE3(rigid_inverse(frame_offset))
         solver = ik.get_ik_solver(model, jmg.name, ik_link)
         T0 = solver.forward(start_q) * to_frame
         T1 = pin.SE3(target)

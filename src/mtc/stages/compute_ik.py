@@ -46,6 +46,7 @@ from mtc.core.container import WrapperBase
 from mtc.core.properties import unsigned_int
 from mtc.core.stage import InitStageError, Stage
 from mtc.core.storage import InterfaceState, SolutionBase, SubTrajectory
+from mtc.scene.frames import rigid_inverse
 from mtc.stages._common import (
     FrameError,
     first_collision_pair,
@@ -57,14 +58,6 @@ from mtc.stages._common import (
 from mtc.stages.generate_pose import SolutionQueue, frame_marker
 
 __all__ = ["ComputeIK"]
-
-
-def _inverse(T: np.ndarray) -> np.ndarray:
-    inv = np.eye(4)
-    R = T[:3, :3]
-    inv[:3, :3] = R.T
-    inv[:3, 3] = -R.T @ T[:3, 3]
-    return inv
 
 
 def eef_collisions(scene, link: str, link_target: np.ndarray) -> list[tuple[str, str]]:
@@ -271,7 +264,7 @@ class ComputeIK(WrapperBase):
             self._fail(s, f"ik frame unknown in robot: '{ik_frame.header.frame_id}'")
             return
         offset = frame_offset @ msgs.pose_to_matrix(ik_frame.pose)
-        link_target = target @ _inverse(offset)
+        link_target = target @ rigid_inverse(offset)
         markers = [frame_marker(self.markerNS(), "target frame", target_msg),
                    frame_marker(self.markerNS(), "ik frame", ik_frame)]
 
