@@ -5,8 +5,9 @@ MTC keeps these in ``stages/*.cpp`` and ``utils.cpp`` (``getRobotTipForFrame``);
 need the same conversions, so they live here once:
 
 * IK frames: ``setIKFrame(PoseStamped | (pose, link) | link)`` -> ``msgs.PoseStamped``
-  (:func:`ik_frame_from_args`), and resolving an IK frame into the robot link the planners
-  move plus the frame's fixed offset on it (:func:`resolve_frame`, :func:`resolve_ik_frame`).
+  (:func:`ik_frame_from_args`). Resolving an IK frame into the robot link the planners move
+  plus the frame's fixed offset on it (:func:`resolve_frame`, :func:`resolve_ik_frame`) lives
+  in :mod:`mtc.scene.frames`, shared with the planners, and is re-exported here.
 * Goals of ``MoveTo``: named state | ``{joint: value}`` | diff ``msgs.RobotState`` |
   ``PoseStamped`` | ``PointStamped`` (:func:`check_goal`, :func:`joint_goal`).
 * Directions of ``MoveRelative``: ``TwistStamped`` | ``Vector3Stamped`` | ``{joint: delta}``
