@@ -123,6 +123,7 @@ __all__ = [
     "axis_angle_matrix",
     "pose_to_matrix",
     "matrix_to_pose",
+    "identity_pose_stamped",
     "pose_to_se3",
     "se3_to_pose",
     "to_dict",
@@ -1078,6 +1079,12 @@ def matrix_to_pose(T: Any) -> Pose:
         position=Point(x=x, y=y, z=z),
         orientation=_quaternion_from_rotation(matrix[:3, :3], "matrix_to_pose"),
     )
+
+
+def identity_pose_stamped(frame_id: str) -> PoseStamped:
+    """The origin of ``frame_id``: a ``PoseStamped`` with the identity pose in that frame (what
+    MTC's ``setIKFrame(link)`` and its message casters make of a bare frame name)."""
+    return PoseStamped(header=Header(frame_id=frame_id), pose=Pose(orientation=Quaternion(w=1.0)))
 
 
 def pose_to_se3(pose: Pose):

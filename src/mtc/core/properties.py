@@ -43,11 +43,10 @@ def _not_none(value, what: str) -> None:
 
 def _convertible(value, what: str) -> None:
     """A value given through MTC's dictionary-style API (``map[key] = value``, ``update()``)
-    for a property of no declared type must be of a type MTC's
-    binding converts: bool, a number, a string or a registered message
-    (``msgs.MotionPlanRequest`` is not one). Anything else raises TypeError, as there. A
-    property declared with a type takes any value of that type (beyond MTC, whose binding
-    cannot pass e.g. a planner through the dictionary)."""
+    for a property of no declared type must be of a type MTC's binding converts: bool, a
+    number, a string or a registered message (``msgs.MotionPlanRequest`` is not one). Anything
+    else raises TypeError, as there. A property declared with a type takes any value of that
+    type (beyond MTC, whose binding cannot pass e.g. a planner through the dictionary)."""
     if isinstance(value, (bool, numbers.Real, str)):
         return
     if isinstance(value, msgs._Message) and getattr(type(value), "_PROPERTY_TYPE", True):
@@ -197,9 +196,7 @@ def _coerce(value, declared):
         if set in types and isinstance(value, frozenset):
             return set(value)
         if isinstance(value, str) and msgs.PoseStamped in types:
-            # as MTC's message casters: a frame name is the identity pose in that frame
-            identity = msgs.Pose(orientation=msgs.Quaternion(w=1.0))
-            return msgs.PoseStamped(header=msgs.Header(frame_id=value), pose=identity)
+            return msgs.identity_pose_stamped(value)  # as MTC's message casters
     raise PropertyTypeError(_value_type_name(value), _type_name(declared))
 
 

@@ -60,11 +60,6 @@ class CartesianPrecision:
         )
 
 
-def _ik_frame(value):
-    # the attribute also takes a link name, as setIKFrame(link) does
-    return to_pose_stamped(value) if isinstance(value, str) else value
-
-
 class CartesianPath(PlannerInterface):
     """Move a frame along a straight line in Cartesian space.
 
@@ -83,7 +78,7 @@ class CartesianPath(PlannerInterface):
         super().__init__()
         p = self.properties
         p.declare("ik_frame", None, "frame to move linearly (use for joint-space target)",
-                  type=msgs.PoseStamped, convert=_ik_frame)
+                  type=msgs.PoseStamped)
         p.declare("step_size", 0.01, "step size between consecutive waypoints")
         p.declare("precision", CartesianPrecision(), "precision of linear path")
         p.declare("min_fraction", 1.0, "fraction of motion required for success")

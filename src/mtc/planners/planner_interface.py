@@ -87,7 +87,7 @@ def to_pose_stamped(pose, link: str | None = None) -> msgs.PoseStamped:
     if isinstance(pose, msgs.PoseStamped) and link is None:
         return pose
     if isinstance(pose, str) and link is None:
-        return msgs.PoseStamped(header=msgs.Header(frame_id=pose), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
+        return msgs.identity_pose_stamped(pose)
     if link is not None and isinstance(link, str):
         if isinstance(pose, msgs.Pose):
             return msgs.PoseStamped(header=msgs.Header(frame_id=link), pose=pose)

@@ -104,7 +104,7 @@ def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
         if sub and sub not in attached.object.subframe_poses:
             raise UnknownFrameError(frame)
         state = scene.current_state
-        link, link_offset = model.rigid_parent_link(attached.link)
+        link, _ = model.rigid_parent_link(attached.link)
         # the frame's pose on its link follows from the current transforms (state-independent)
         offset = np.linalg.solve(state.get_global_link_transform(link), scene.get_frame_transform(frame))
         return link, offset
@@ -117,7 +117,7 @@ def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
 
 
 def resolve_ik_frame(scene, ik_frame: msgs.PoseStamped | None, group=None) -> IKFrame:
-    """Resolve MoveTo's/MoveRelative's ``ik_frame`` as MTC's ``getRobotTipForFrame``.
+    """Resolve a stage's or CartesianPath's ``ik_frame`` as MTC's ``getRobotTipForFrame``.
 
     Args:
         scene: The planning scene whose current state is the start state.

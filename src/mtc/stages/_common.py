@@ -119,9 +119,7 @@ def pose_stamped_from_args(what: str, *args, default_frame: str | None = None) -
         if isinstance(value, msgs.PoseStamped):
             return msgs.from_dict(msgs.PoseStamped, msgs.to_dict(value))
         if isinstance(value, str):
-            return msgs.PoseStamped(
-                header=msgs.Header(frame_id=value), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))
-            )
+            return msgs.identity_pose_stamped(value)
         if default_frame is not None:
             return msgs.PoseStamped(
                 header=msgs.Header(frame_id=default_frame), pose=msgs.matrix_to_pose(as_matrix(value, what))

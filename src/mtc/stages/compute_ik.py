@@ -255,9 +255,7 @@ class ComputeIK(WrapperBase):
             else:
                 self._fail(s, "Failed to derive IK target link")
                 return
-            ik_frame = msgs.PoseStamped(
-                header=msgs.Header(frame_id=tip), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))
-            )
+            ik_frame = msgs.identity_pose_stamped(tip)
         try:
             link, frame_offset = resolve_frame(scene, ik_frame.header.frame_id)
         except FrameError:

@@ -152,9 +152,7 @@ class GeneratePlacePose(GeneratePose):
         z_rotations, forced_flips = place_pose_turns(shapes)
         z_flips = forced_flips if forced_flips is not None else (1 if p.get("allow_z_flip") else 0)
 
-        ik_frame = msgs.PoseStamped(
-            header=msgs.Header(frame_id=obj), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))
-        )
+        ik_frame = msgs.identity_pose_stamped(obj)
         ns = self.markerNS()
         for T in place_poses(nominal, z_flips, z_rotations):
             target = pose_stamped(T, scene.planning_frame)

@@ -28,7 +28,7 @@ __all__ = ["PickPlaceBase", "Pick", "Place"]
 def _ik_frame_of_eef_frame(other):
     """Initializer of the MoveRelatives' ``ik_frame``: identity pose in ``eef_frame``."""
     frame = other.get("eef_frame")  # undefined -> the ik_frame stays undefined (default tip)
-    return msgs.PoseStamped(header=msgs.Header(frame_id=frame), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
+    return msgs.identity_pose_stamped(frame)
 
 
 class PickPlaceBase(SerialContainer):
