@@ -213,7 +213,7 @@ def test_joint_goal_ik_frame_errors(ready_scene):
     """ik_frame problems fail with MTC's messages, prefixed "CartesianPath: "."""
     goal = ready_scene.diff()
     planner = CartesianPath()
-    result, traj = planner.plan(ready_scene, goal, "panda_arm_hand", 1.0)
+    result, traj = planner.plan(ready_scene, goal, "hand", 1.0)  # no end effector is attached to it
     assert result == PlannerResult(False, "CartesianPath: missing ik_frame") and traj is None
     planner.setIKFrame("nowhere")
     result, _ = planner.plan(ready_scene, goal, "panda_arm", 1.0)
@@ -221,6 +221,18 @@ def test_joint_goal_ik_frame_errors(ready_scene):
     planner.setIKFrame("world")  # not on the robot, and "hand" has no unique tip to fall back on
     result, _ = planner.plan(ready_scene, goal, "hand", 1.0)
     assert result == PlannerResult(False, "CartesianPath: ik_frame doesn't specify a link frame")
+
+
+def test_joint_goal_group_holding_the_end_effector_parent_uses_its_tip(ready_scene):
+    """As MoveIt attaches an end effector to every group holding its parent link, panda_arm_hand
+    (panda_arm + hand) has panda_link8 as its tip: the flange keeps to the straight line."""
+    goal = ready_scene.diff()
+    goal.current_state.set_variable_positions({"panda_joint1": 0.3, "panda_joint4": -2.0})
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1 = goal.current_state.get_global_link_transform("panda_link8")
+    result, traj = CartesianPath().plan(ready_scene, goal, "panda_arm_hand", 1.0)
+    assert result
+    assert _deviation(traj, T0, T1, link="panda_link8")[0] <= 0.001
 
 
 @pytest.mark.parametrize("frame", ["", "world"])

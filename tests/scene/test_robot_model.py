@@ -180,6 +180,32 @@ def test_without_srdf_there_are_no_groups():
     assert model.disabled_collision_pairs == []
 
 
+def test_end_effector_tips_as_moveit(panda):
+    """As MoveIt's getEndEffectorTips: an end effector is attached to every group holding its
+    parent link (its own group aside), whatever its parent group; a chain group without one has
+    no end-effector tip, but IK still moves the chain's tip."""
+    from scene_helpers import TOY_URDF
+
+    tips = {g: panda.get_joint_model_group(g).end_effector_tips for g in panda.joint_model_group_names}
+    assert tips == {"panda_arm": ["panda_link8"], "hand": [], "panda_arm_hand": ["panda_link8"]}
+    ik = {g: panda.get_joint_model_group(g).ik_tips for g in panda.joint_model_group_names}
+    assert ik == {"panda_arm": ["panda_link8"], "hand": [], "panda_arm_hand": []}
+
+    srdf = """<robot name="robot">
+      <group name="whole"><chain base_link="base" tip_link="tip"/></group>
+      <group name="upper"><chain base_link="base" tip_link="link2"/></group>
+      <group name="last"><link name="tip"/></group>
+      <end_effector name="e" parent_link="link2" group="last"/>
+    </robot>"""
+    model = RobotModel(str(TOY_URDF), srdf)
+    assert model.get_joint_model_group("whole").end_effector_tips == ["link2"]
+    assert model.get_joint_model_group("upper").end_effector_tips == ["link2"]
+    assert model.get_joint_model_group("last").end_effector_tips == []
+    bare = RobotModel(str(TOY_URDF), '<robot name="robot"><group name="whole"><chain base_link="base" tip_link="tip"/></group></robot>')
+    group = bare.get_joint_model_group("whole")
+    assert (group.end_effector_tips, group.ik_tips) == ([], ["tip"])
+
+
 def test_joint_limits_override(toy):
     """joint_limits overrides velocity and acceleration per joint."""
     from scene_helpers import TOY_SRDF, TOY_URDF

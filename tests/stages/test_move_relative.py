@@ -313,6 +313,36 @@ def test_failure_comments(make_task, ready_scene, move, configure, message):
     assert move.failures[0].comment == message
 
 
+def test_default_ik_frame_is_an_end_effector_tip(make_task, ready_scene):
+    """As MTC (getRobotTipForFrame asks MoveIt's getEndEffectorTips): without ik_frame the tip
+    is the parent link of an attached end effector. panda_arm_hand holds the hand's parent link
+    and moves it; a chain group with no end effector in its SRDF is "missing ik_frame"."""
+    import mtc
+
+    m = stages.MoveRelative("m", CartesianPath())
+    m.group = "panda_arm_hand"
+    m.setDirection(vector(v=(0, 0, -0.05)))
+    task = make_task(start(ready_scene), m)
+    assert task.plan()
+    p = frame_positions(m.solutions[0], "panda_link8", ready_scene)
+    assert p[-1] - p[0] == pytest.approx([0, 0, -0.05], abs=1e-3)
+
+    srdf = open(mtc.robots.PANDA_SRDF).read()
+    srdf = "\n".join(line for line in srdf.splitlines() if "<end_effector" not in line)
+    bare = mtc.RobotModel(mtc.robots.panda_urdf_path(), srdf)
+    scene = mtc.PlanningScene(bare)
+    scene.current_state.set_joint_group_positions("panda_arm", ready_scene.current_state.get_joint_group_positions("panda_arm"))
+    m = stages.MoveRelative("m", CartesianPath())
+    m.group = "panda_arm"
+    m.setDirection(vector(v=(0, 0, -0.05)))
+    task = core.Task()
+    task.setRobotModel(bare)
+    task.add(stages.FixedState("start", scene))
+    task.add(m)
+    assert not task.plan()
+    assert m.failures[0].comment == "missing ik_frame"
+
+
 # ------------------------------------------------------------------------------ in tasks
 def test_seed_subclass_move_x_forward():
     """The seed's custom propagator: a MoveRelative subclass overriding computeForward."""

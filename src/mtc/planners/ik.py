@@ -326,7 +326,7 @@ def resolve_tip(state: RobotState, group: str, tip: str | None) -> tuple[str, np
     model = state.robot_model
     jmg = model.get_joint_model_group(group)
     if tip is None or tip == "":
-        tips = list(jmg.end_effector_tips) or ([jmg.chain_tip] if jmg.chain_tip else [])
+        tips = jmg.ik_tips
         if len(tips) != 1:
             raise ValueError(
                 f"group '{jmg.name}' has no unique end-effector tip (tips: {', '.join(tips) or 'none'}); "

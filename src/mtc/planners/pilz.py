@@ -158,7 +158,7 @@ class PilzPipeline:
                                   max_acceleration_scaling_factor),
                 start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor,
             )
-        tips = list(jmg.end_effector_tips)
+        tips = jmg.ik_tips
         if len(tips) != 1:
             return PlannerResult(False, error_message(
                 "INVALID_GROUP_NAME", f"{planner_id} needs a group with one end-effector tip; "

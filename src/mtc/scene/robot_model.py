@@ -125,6 +125,12 @@ class JointModelGroup:
         variable_indices: their indices into a full state vector.
         updated_link_names: every link whose pose moves with the group's variables (the
             links a group-restricted collision check looks at).
+        end_effector_tips: parent links of the end effectors attached to the group (as
+            MoveIt's ``getEndEffectorTips``: every end effector whose parent link is in the
+            group, its own group aside); the default IK link of stages without ``ik_frame``.
+        ik_tips: the links IK and Pilz's Cartesian motions move when no link is named (the
+            tip of a kinematics solver for the group in MoveIt): the parent links of the end
+            effectors naming the group as their parent group, else the tip of the group's chain.
     """
 
     name: str
@@ -140,6 +146,7 @@ class JointModelGroup:
     subgroup_names: list[str] = field(default_factory=list)
     is_chain: bool = False
     chain_tip: str = ""
+    ik_tips: list[str] = field(default_factory=list)
     default_ik_timeout: float = DEFAULT_IK_TIMEOUT
 
     @property
@@ -409,9 +416,16 @@ class RobotModel:
                     f"SRDF: end effector '{e.name}' has unknown parent group '{e.parent_group}'"
                 )
             self._end_effectors[e.name] = EndEffector(e.name, e.group, e.parent_link, e.parent_group)
+        # as MoveIt: an end effector is attached to every other group that holds its parent link
+        # (not only to its parent group); a group without one has no end-effector tip
         for group in self._groups.values():
-            tips = [e.parent_link for e in self._end_effectors.values() if e.parent_group == group.name]
-            group.end_effector_tips = tips or ([group.chain_tip] if group.chain_tip else [])
+            group.end_effector_tips = list(dict.fromkeys(
+                e.parent_link for e in self._end_effectors.values()
+                if e.group != group.name and e.parent_link in group.link_model_names
+            ))
+            group.ik_tips = [e.parent_link for e in self._end_effectors.values() if e.parent_group == group.name]
+            if not group.ik_tips and group.chain_tip:
+                group.ik_tips = [group.chain_tip]
 
         self._group_states: dict[str, dict[str, dict[str, float]]] = {}
         for s in srdf.group_states:
@@ -626,8 +640,8 @@ class RobotModel:
             spec = GroupSpec(name, subgroups=[g.name for g in groups])
             specs = {**{g.name: g for g in self._srdf.groups}, name: spec}
             cached = self._make_group(spec, specs, ())
-            tips = [t for g in groups for t in g.end_effector_tips]
-            cached.end_effector_tips = list(dict.fromkeys(tips))
+            cached.end_effector_tips = list(dict.fromkeys(t for g in groups for t in g.end_effector_tips))
+            cached.ik_tips = list(dict.fromkeys(t for g in groups for t in g.ik_tips))
             self._merged_groups[name] = cached
         return cached
 
