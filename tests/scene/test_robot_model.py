@@ -201,6 +201,10 @@ def test_end_effector_tips_as_moveit(panda):
     assert model.get_joint_model_group("whole").end_effector_tips == ["link2"]
     assert model.get_joint_model_group("upper").end_effector_tips == ["link2"]
     assert model.get_joint_model_group("last").end_effector_tips == []
+    # no parent group in the SRDF: the holder of the parent link with the fewest joints
+    assert model.get_end_effector("e").parent_group == "upper"
+    assert model.get_joint_model_group("upper").ik_tips == ["link2"]
+    assert model.get_joint_model_group("whole").ik_tips == ["tip"]
     bare = RobotModel(str(TOY_URDF), '<robot name="robot"><group name="whole"><chain base_link="base" tip_link="tip"/></group></robot>')
     group = bare.get_joint_model_group("whole")
     assert (group.end_effector_tips, group.ik_tips) == ([], ["tip"])

@@ -415,7 +415,16 @@ class RobotModel:
                 raise DescriptionError(
                     f"SRDF: end effector '{e.name}' has unknown parent group '{e.parent_group}'"
                 )
-            self._end_effectors[e.name] = EndEffector(e.name, e.group, e.parent_link, e.parent_group)
+            parent_group = e.parent_group
+            if not parent_group:
+                # as MoveIt: of the other groups holding the parent link, the one with the
+                # fewest joints (the first by name among equals)
+                holders = sorted(
+                    (len(g.joint_model_names), g.name) for g in self._groups.values()
+                    if g.name != e.group and e.parent_link in g.link_model_names
+                )
+                parent_group = holders[0][1] if holders else ""
+            self._end_effectors[e.name] = EndEffector(e.name, e.group, e.parent_link, parent_group)
         # as MoveIt: an end effector is attached to every other group that holds its parent link
         # (not only to its parent group); a group without one has no end-effector tip
         for group in self._groups.values():
