@@ -219,6 +219,21 @@ def test_lin_collision(ready_scene, add_box):
     assert not any(ready_scene.is_state_colliding(w, ARM) for w in traj)
 
 
+def test_lin_beyond_reach_through_an_obstacle_hands_back_only_the_valid_part(ready_scene, add_box):
+    """A line that leaves the workspace (IK fails at its far end) after passing an obstacle: the
+    collision comes first along the line, so it is the failure, and the part handed back stops
+    before the obstacle (it was not checked at all before)."""
+    T1 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1[:3, 3] += [0.0, 0.0, -1.5]  # far below the base: out of reach
+    hand = ready_scene.current_state.get_global_link_transform("panda_hand_tcp")
+    add_box(ready_scene, "table", hand[:3, 3] + [0, 0, -0.15], (0.3, 0.3, 0.02))
+    result, traj = _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
+    assert result.message.startswith("INVALID_MOTION_PLAN: waypoint ") and "table" in result.message
+    assert traj is not None and len(traj) > 1
+    assert ready_scene.is_path_valid(traj, ARM)
+    assert not any(ready_scene.is_state_colliding(w, ARM) for w in traj)
+
+
 # ----------------------------------------------------------------------------------------- CIRC
 
 

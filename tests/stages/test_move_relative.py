@@ -313,6 +313,26 @@ def test_failure_comments(make_task, ready_scene, move, configure, message):
     assert move.failures[0].comment == message
 
 
+def test_lin_stops_short_of_an_obstacle_within_min_distance(make_task, ready_scene, box):
+    """Pilz LIN that meets an obstacle hands back the collision-free part (a deliberate difference
+    from MoveIt's Pilz, MTC #538): MoveRelative accepts it once it reached min_distance."""
+    scene = ready_scene.diff()
+    hand = scene.current_state.get_global_link_transform("panda_hand_tcp")
+    scene.apply_collision_object(box("table", hand[:3, 3] + [0, 0, -0.15], (0.3, 0.3, 0.02)))
+    lin = core.PipelinePlanner("pilz_industrial_motion_planner")
+    lin.planner = "LIN"
+    m = stages.MoveRelative("down", lin)
+    m.group = "panda_arm"
+    m.min_distance = 0.05
+    m.setDirection(vector(v=(0, 0, -0.4)))
+    task = make_task(stages.FixedState("start", scene), m)
+    assert task.plan()
+    sol = m.solutions[0]
+    assert scene.is_path_valid(sol.trajectory, "panda_arm")
+    moved = -(frame_positions(sol, "panda_link8", scene)[-1] - frame_positions(sol, "panda_link8", scene)[0])[2]
+    assert 0.05 <= moved < 0.15
+
+
 def test_default_ik_frame_is_an_end_effector_tip(make_task, ready_scene):
     """As MTC (getRobotTipForFrame asks MoveIt's getEndEffectorTips): without ik_frame the tip
     is the parent link of an attached end effector. panda_arm_hand holds the hand's parent link

@@ -274,6 +274,16 @@ class PilzPipeline:
                     error_message("INVALID_MOTION_PLAN", f"waypoint {k} of {n} violates the path constraints"), Q[:k]
                 )
 
+    def _part_way(self, validity: PathValidity, message: str, Q: list[np.ndarray], skip_constraints: bool) -> _Failure:
+        """The failure of a Cartesian motion that ended part-way (``message``), with its
+        waypoints; where one of them is in collision or off the path constraints, that came
+        first along the path: its failure, with the waypoints before it."""
+        try:
+            self._check_path(validity, Q, skip_constraints)
+        except _Failure as invalid:
+            return invalid
+        return _Failure(message, Q)
+
     def _trajectory(self, start: RobotState, jmg, Q, times, V, A) -> RobotTrajectory:
         traj = RobotTrajectory(self.robot_model, jmg.name)
         previous = 0.0
@@ -443,12 +453,13 @@ class PilzPipeline:
         Q = [start_q]
         for k in range(1, len(fractions)):
             if time.perf_counter() > deadline:
-                raise _Failure(error_message("TIMED_OUT", f"{planner_id} took longer than the timeout"), Q)
+                raise self._part_way(validity, error_message("TIMED_OUT", f"{planner_id} took longer than the timeout"),
+                                     Q, is_circ)
             s = float(fractions[k])
             q = Q[-1].copy()
             if not solver.descend(q, frame_pose(s) * inv_offset):
-                raise _Failure(error_message(
-                    "NO_IK_SOLUTION", f"{planner_id}: no IK solution at {100 * s:.1f} % of the path of '{link}'"), Q)
+                raise self._part_way(validity, error_message(
+                    "NO_IK_SOLUTION", f"{planner_id}: no IK solution at {100 * s:.1f} % of the path of '{link}'"), Q, is_circ)
             # a joint-space jump between samples shows as a midpoint off the path
             qm = 0.5 * (Q[-1] + q)
             model.enforce_mimic(qm)
@@ -457,9 +468,9 @@ class PilzPipeline:
             if np.linalg.norm(actual.translation - expected.translation) > 1e-3 or np.linalg.norm(
                 pin.log3(expected.rotation.T @ actual.rotation)
             ) > 1e-2:
-                raise _Failure(error_message(
+                raise self._part_way(validity, error_message(
                     "NO_IK_SOLUTION", f"{planner_id}: IK jumps between waypoints at {100 * s:.1f} % of the path of '{link}'"
-                ), Q)
+                ), Q, is_circ)
             Q.append(q)
         self._check_path(validity, Q, skip_constraints=is_circ)
 
