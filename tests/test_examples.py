@@ -13,6 +13,7 @@ import runpy
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import mtc
@@ -518,18 +519,21 @@ def test_seed_move_to_goal_types(monkeypatch):
 
 
 def test_seed_custom_generator_and_propagator(monkeypatch):
-    """Seed 'Custom Generator and Propagator Stages': 3 spawned scenes, each moved +0.1 m x."""
+    """Seed 'Custom Generator and Propagator Stages': the generator spawns 3 scenes with the arm
+    at MoveIt's default state (zero where the limits allow it, joint 4 at the middle of its
+    range); from there the +0.1 m x line drives joint 6 into its lower limit (-0.0175 rad)
+    after a fifth of the way, so each move fails as in MTC, with CartesianPath's comment."""
     namespace = run_seed("custom_generator_and_propagator_stages", monkeypatch)
     task = namespace["task"]
-    # the generator spawns 3 scenes (costs 2, 1, 0); each moves 0.1 m along x
-    assert len(task.solutions) == 3
-    costs = [solution.cost for solution in task.solutions]
-    assert costs == sorted(costs)
-    assert costs[1] - costs[0] == pytest.approx(1.0) and costs[2] - costs[1] == pytest.approx(1.0)
-    for solution in task.solutions:
-        start = solution.start.scene.current_state.get_global_link_transform("panda_link8")
-        end = end_scene(solution).current_state.get_global_link_transform("panda_link8")
-        assert end[:3, 3] - start[:3, 3] == pytest.approx([0.1, 0.0, 0.0], abs=1e-3)
+    assert len(task.solutions) == 0
+    generated = task["gen"].solutions
+    assert len(generated) == 3
+    for solution in generated:
+        q = solution.end.scene.current_state.positions
+        np.testing.assert_allclose(q, task.getRobotModel().default_positions)
+    failures = task["Move +X"].failures
+    assert len(failures) == 3
+    assert all(f.comment.startswith("CartesianPath: min_fraction not met. Achieved: 0.2") for f in failures)
 
 
 @pytest.mark.parametrize("name, stage", [

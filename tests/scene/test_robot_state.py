@@ -34,14 +34,20 @@ def random_states(model, n, seed, group=None):
 
 
 # ---------------------------------------------------------------------------- positions
-def test_default_state_is_zero_clipped_into_bounds(panda):
-    """A new state is all zeros, clipped into the joint limits (joint 4 has upper -0.0698)."""
+def test_default_state_is_moveits(panda, toy):
+    """As MoveIt's default positions: zero where the joint's bounds allow it, else the middle of
+    its bounds (the Panda's joint 4 spans -3.0718..-0.0698); unbounded joints are zero."""
     s = RobotState(panda)
-    expected = np.clip(np.zeros(9), panda.lower_bounds, panda.upper_bounds)
-    np.testing.assert_array_equal(s.positions, expected)
-    assert s.positions[3] == pytest.approx(-0.0698)
+    expected = np.zeros(9)
+    expected[3] = (-3.0718 + -0.0698) / 2
+    np.testing.assert_allclose(s.positions, expected, atol=1e-12)
     assert s.satisfies_bounds()
     assert s.robot_model is panda
+    moved = s.copy()
+    moved.set_to_random_positions()
+    moved.set_to_default_values()
+    np.testing.assert_array_equal(moved.positions, s.positions)
+    np.testing.assert_array_equal(RobotState(toy).positions, np.zeros(3))
 
 
 def test_constructor_checks_its_arguments(panda):

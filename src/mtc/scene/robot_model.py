@@ -559,6 +559,17 @@ class RobotModel:
     def variable_count(self) -> int:
         return len(self.variable_names)
 
+    @cached_property
+    def default_positions(self) -> np.ndarray:
+        """The default state's variables, as MoveIt's ``getVariableDefaultPositions``: zero
+        where the bounds allow it, else the middle of the bounds (mimic followers follow)."""
+        lo, hi = self.lower_bounds, self.upper_bounds
+        with np.errstate(invalid="ignore"):  # -inf + inf where unbounded (and zero is allowed)
+            q = np.where((lo <= 0.0) & (hi >= 0.0), 0.0, (lo + hi) / 2.0)
+        self.enforce_mimic(q)
+        q.flags.writeable = False
+        return q
+
     @property
     def joint_model_names(self) -> list[str]:
         return list(self._joints)

@@ -36,8 +36,9 @@ class RobotState:
 
     Args:
         robot_model: the robot.
-        positions: optional full variable vector (model order); default: zeros clipped into
-            the joint bounds.
+        positions: optional full variable vector (model order); default: the model's
+            :attr:`~mtc.scene.robot_model.RobotModel.default_positions` (zero where the bounds
+            allow it, else their middle, as MoveIt).
     """
 
     __slots__ = ("_model", "_q", "_fk_token", "_attached_frames", "__weakref__")
@@ -47,7 +48,7 @@ class RobotState:
             raise TypeError(f"RobotState needs a RobotModel, not {type(robot_model).__name__}")
         self._model = robot_model
         if positions is None:
-            q = np.clip(np.zeros(robot_model.variable_count), robot_model.lower_bounds, robot_model.upper_bounds)
+            q = robot_model.default_positions.copy()
         else:
             q = np.array(positions, dtype=float)
             if q.shape != (robot_model.variable_count,):
@@ -125,15 +126,15 @@ class RobotState:
         return self._q[self._group(group).variable_indices].copy()
 
     def set_to_default_values(self, group: str | None = None, name: str | None = None) -> None:
-        """Without arguments: every joint to zero (clipped into its bounds). With a group and a
-        named state of the SRDF: that state's joint values.
+        """Without arguments: every joint to its default (zero where the bounds allow it, else
+        the middle of the bounds, as MoveIt). With a group and a named state of the SRDF: that
+        state's joint values.
 
         Raises:
             KeyError: unknown group or named state.
         """
         if group is None and name is None:
-            m = self._model
-            self.positions = np.clip(np.zeros(m.variable_count), m.lower_bounds, m.upper_bounds)
+            self.positions = self._model.default_positions.copy()
             return
         if group is None or name is None:
             raise TypeError("set_to_default_values takes no arguments or both a group and a state name")
