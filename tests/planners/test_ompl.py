@@ -421,6 +421,38 @@ def test_continuous_joints_start_at_the_start_values():
     assert np.abs(np.diff(traj.positions, axis=0)).max() < 0.5  # no jump of a full turn
 
 
+_PointerURDF = """<robot name="pointer">
+  <link name="base"/>
+  <link name="bar"><collision><origin xyz="0.4 0 0"/><geometry><box size="0.4 0.04 0.04"/></geometry></collision></link>
+  <joint name="j" type="continuous"><parent link="base"/><child link="bar"/><axis xyz="0 0 1"/></joint>
+</robot>"""
+_PointerSRDF = """<robot name="pointer">
+  <virtual_joint name="vj" type="fixed" parent_frame="world" child_link="base"/>
+  <group name="arm"><joint name="j"/></group>
+</robot>"""
+
+
+@pytest.mark.parametrize("blocked, way", [(0.0, "short"), (np.pi, "long")])
+def test_continuous_joint_crosses_pi_either_way(add_box, blocked, way):
+    """As MoveIt's SO(2) spaces: a continuous joint's path may cross +-pi. A bar turning from
+    2.8 to -2.8 rad goes the short way (0.68 rad, across pi) when a post blocks the way through
+    0, and the long way (5.6 rad, through 0) when the post stands at pi."""
+    import mtc
+
+    model = mtc.RobotModel(_PointerURDF, _PointerSRDF)
+    scene = PlanningScene(model)
+    add_box(scene, "post", (0.5 * np.cos(blocked), 0.5 * np.sin(blocked), 0.0), (0.1, 0.1, 0.2))
+    start, goal = scene.current_state.copy(), scene.current_state.copy()
+    start.positions, goal.positions = [2.8], [-2.8]
+    result, traj = OMPLPipeline().plan_joint(scene, start, goal, "arm", seed=0)
+    assert result, result.message
+    assert scene.is_path_valid(traj, "arm")
+    turned = traj.positions[-1, 0] - traj.positions[0, 0]
+    assert traj[-1].distance(goal, "arm") == pytest.approx(0.0, abs=1e-9)
+    expected = 2 * np.pi - 5.6 if way == "short" else -5.6
+    assert turned == pytest.approx(expected, abs=1e-9)
+
+
 def test_waypoints_carry_the_start_states_attached_objects(pipeline, ready_scene, add_box):
     """As MoveIt's waypoints (copies of the start state): an object attached at the start is
     known to every waypoint, so its frame can be read along the trajectory (MTC's

@@ -63,6 +63,7 @@ Failure messages are MoveIt's error code names, with details after a colon:
 
 from __future__ import annotations
 
+import itertools
 import logging
 import math
 import time
@@ -131,6 +132,8 @@ POSE_GOAL_SAMPLES = 4
 #: collision checks: median 760 / 902 / 392 per problem on bookshelf_small / box / table_pick,
 #: against 1518 / 906 / 468 with 1.0 and about twice as many with OMPL's default.
 DEFAULT_RANGE = 0.5
+#: Continuous joints whose goal is also given the long way round (2^n combinations per goal).
+MAX_TURNED_JOINTS = 3
 #: The search checks every 4th state along its edges (0.06 rad apart); the returned path is
 #: then checked at every state (:data:`DEFAULT_RESOLUTION`).
 DEFAULT_SEARCH_RATIO = 4
@@ -825,6 +828,7 @@ class _Request:
     deadline: float
     t0: float
     turns: np.ndarray  # per group variable: what wrapping continuous joints into [-pi, pi) removed
+    free_turning: np.ndarray  # per group variable: a continuous joint planned a turn either way
 
 
 class OMPLPipeline:
@@ -988,18 +992,24 @@ class OMPLPipeline:
         lower, upper = self._group_bounds(model, idx)
         constraints = KinematicConstraintSet(model, path_constraints)
         # joint constraints narrow the bounds the planner samples in (they are still checked)
+        cont = model.continuous_mask[idx]
+        free_turning = cont.copy()  # continuous joints no constraint narrows
         for var, (lo, hi) in constraints.joint_bounds().items():
             where = np.nonzero(idx == var)[0]
             if where.size:
                 lower[where[0]] = max(lower[where[0]], lo)
                 upper[where[0]] = min(upper[where[0]], hi)
+                free_turning[where[0]] = False
         base = start.positions.copy()
         original = None
         x = base[idx].copy()
-        cont = model.continuous_mask[idx]
         unwrapped = x.copy()
         x[cont] = (x[cont] + np.pi) % (2 * np.pi) - np.pi
         turns = unwrapped - x  # multiples of 2 pi, added back to the path
+        # a continuous joint may turn a whole turn either way from the start (as on MoveIt's SO(2)
+        # spaces a path may cross +-pi): its goal is given in both directions (see _turned_goals)
+        lower[free_turning] = x[free_turning] - 2 * np.pi
+        upper[free_turning] = x[free_turning] + 2 * np.pi
         model_lo, model_hi = self._group_bounds(model, idx)
         below, above = model_lo - x, x - model_hi
         worst = np.maximum(below, above)
@@ -1027,7 +1037,8 @@ class OMPLPipeline:
             raise KeyError(f"path constraints: {e.args[0] if e.args else e}") from None
         checker = _EdgeChecker(scene, jmg, base, evaluator, self.resolution, self.search_ratio)
         req = _Request(
-            scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0, turns
+            scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0, turns,
+            free_turning,
         )
         # start validity: collision (with the bodies named), then path constraints
         start_state = RobotState(model, base)
@@ -1173,10 +1184,36 @@ class OMPLPipeline:
         st.check_time = req.checker.check_time
         st.total_time = time.perf_counter() - req.t0
 
+    @staticmethod
+    def _turned_goals(req: _Request, goals: list[np.ndarray]) -> list[np.ndarray]:
+        """The goals with their freely turning continuous joints at the value nearest the start
+        (the short way round), then the same goals reached the long way round in one, two or
+        all of those joints (the first :data:`MAX_TURNED_JOINTS` of them that move)."""
+        turning = req.free_turning
+        if not turning.any():
+            return goals
+        x = req.x_start
+        short = []
+        for g in goals:
+            g = np.array(g, dtype=float)
+            g[turning] = x[turning] + (g[turning] - x[turning] + np.pi) % (2 * np.pi) - np.pi
+            short.append(g)
+        out = list(short)
+        for g in short:
+            moving = np.nonzero(turning & (np.abs(g - x) > 1e-12))[0][:MAX_TURNED_JOINTS]
+            for r in range(1, len(moving) + 1):
+                for joints in itertools.combinations(moving, r):
+                    j = list(joints)
+                    other = g.copy()
+                    other[j] -= 2 * np.pi * np.sign(g[j] - x[j])
+                    out.append(other)
+        return out
+
     def _solve(self, req: _Request, goals: list[np.ndarray], cls_name: str, attempts: int, goal_tol: float, seed: int):
         checker = req.checker
         stats = self.last_stats
         stats.planner = cls_name
+        goals = self._turned_goals(req, goals)
         # already there
         for g in goals:
             if np.all(np.abs(g - req.x_start) <= goal_tol):
@@ -1241,8 +1278,10 @@ class OMPLPipeline:
         return self._success(req, best, dense)
 
     def _max_segment(self, req: _Request) -> float:
-        # MoveIt: max_solution_segment_length = maximum extent of the space / 100
-        return float(np.linalg.norm(req.upper - req.lower)) / 100.0
+        # MoveIt: max_solution_segment_length = maximum extent of the space / 100 (a continuous
+        # joint's extent is pi there, on SO(2))
+        extent = np.where(req.free_turning, np.pi, req.upper - req.lower)
+        return float(np.linalg.norm(extent)) / 100.0
 
     def _finalize(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int):
         """Shortcut a path the search found (its edges valid at the search resolution) with
