@@ -491,6 +491,22 @@ def test_missing_srdf_file(tmp_path):
         RobotModel(str(TOY_URDF), str(tmp_path / "none.srdf"))
 
 
+def test_group_states_without_a_group_are_ignored(caplog):
+    """Pinocchio's reference configurations (a group_state with no group, as example-robot-data's
+    SRDFs have them) are dropped with a warning, as MoveIt's SRDF reader does; the rest loads."""
+    from scene_helpers import TOY_URDF
+
+    srdf = """<robot name="robot">
+      <group name="g"><chain base_link="base" tip_link="tip"/></group>
+      <group_state name="home"><joint name="base-link1-joint" value="0.5"/></group_state>
+      <group_state name="up" group="g"><joint name="base-link1-joint" value="1.5"/></group_state>
+    </robot>"""
+    with caplog.at_level("WARNING"):
+        model = RobotModel(str(TOY_URDF), srdf)
+    assert model.group_state_names("g") == ["up"]
+    assert "group_state 'home' names no group; ignored" in caplog.text
+
+
 def test_unknown_links_in_disabled_pairs_are_ignored(caplog):
     """A disable_collisions pair of links the URDF lacks is dropped with a warning (as MoveIt)."""
     from scene_helpers import TOY_URDF

@@ -8,9 +8,12 @@ the names against the URDF.
 
 from __future__ import annotations
 
+import logging
 import os
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
+
+log = logging.getLogger(__name__)
 
 
 class DescriptionError(ValueError):
@@ -136,6 +139,11 @@ def parse_srdf(source: str) -> SRDF:
                     group.subgroups.append(_attr(sub, "name", label))
             srdf.groups.append(group)
         elif tag == "group_state":
+            if not elem.get("group"):
+                # Pinocchio's reference configurations (example-robot-data's SRDFs) name no
+                # group; MoveIt's SRDF reader skips them too
+                log.warning("%s: group_state '%s' names no group; ignored", label, elem.get("name", ""))
+                continue
             state = GroupStateSpec(_attr(elem, "name", label), _attr(elem, "group", label))
             for sub in elem:
                 if sub.tag == "joint":
