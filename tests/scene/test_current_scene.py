@@ -67,6 +67,20 @@ def test_another_robot_model_starts_a_new_scene(panda, toy):
         current_scene("panda")
 
 
+def test_replacing_a_scene_with_objects_warns(panda, toy, caplog):
+    """A new robot model's scene does not carry the old scene's objects: a warning names them
+    (a box added before the other robot's scene was asked for would otherwise vanish silently)."""
+    PlanningSceneInterface().add_box("crate", stamped((0.5, 0.0, 0.2)), size=(0.1, 0.1, 0.1))
+    with caplog.at_level("WARNING"):
+        toy_scene = current_scene(toy)
+    assert toy_scene.world_object_names == []
+    assert "objects of the old one (crate) are not in it" in caplog.text
+    caplog.clear()
+    with caplog.at_level("WARNING"):
+        current_scene(panda)  # the toy's scene had no objects: nothing to warn about
+    assert caplog.text == ""
+
+
 def test_set_current_scene(panda):
     """set_current_scene makes a scene current; only scenes are accepted."""
     scene = PlanningScene(panda)

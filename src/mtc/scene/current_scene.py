@@ -9,6 +9,7 @@ them) and an empty world.
 
 from __future__ import annotations
 
+import logging
 import threading
 from collections.abc import Iterable
 
@@ -17,6 +18,8 @@ from mtc.scene.planning_scene import PlanningScene, mesh_file_to_msg
 from mtc.scene.robot_model import RobotModel
 
 __all__ = ["current_scene", "reset_current_scene", "set_current_scene", "PlanningSceneInterface"]
+
+log = logging.getLogger(__name__)
 
 _lock = threading.RLock()
 _current: PlanningScene | None = None
@@ -47,6 +50,13 @@ def current_scene(robot_model: RobotModel | None = None) -> PlanningScene:
                 from mtc.robots import panda
 
                 robot_model = panda()
+            if _current is not None:
+                objects = _current.world_object_names + _current.attached_object_names
+                if objects:
+                    log.warning(
+                        "current scene: robot model '%s' (another RobotModel object) starts a new scene; "
+                        "the objects of the old one (%s) are not in it", robot_model.name, ", ".join(objects),
+                    )
             _current = _initial_scene(robot_model)
         return _current
 
