@@ -121,7 +121,6 @@ def test_wrong_root_element():
         ('<group name="g"><chain base_link="a"/></group>', "chain", "tip_link"),
         ('<group name="g"><joint/></group>', "joint", "name"),
         ('<group name="g"><link/></group>', "link", "name"),
-        ('<group_state name="s"/>', "group_state", "group"),
         ('<group_state name="s" group="g"><joint name="j"/></group_state>', "joint", "value"),
         ('<end_effector name="e" group="g"/>', "end_effector", "parent_link"),
         ('<virtual_joint name="v" type="fixed" child_link="base"/>', "virtual_joint", "parent_frame"),
