@@ -210,6 +210,25 @@ def test_end_effector_tips_as_moveit(panda):
     assert (group.end_effector_tips, group.ik_tips) == ([], ["tip"])
 
 
+def test_a_group_of_joints_in_a_row_is_a_chain(panda):
+    """As MoveIt's JointModelGroup: a group is a chain when each of its joints lies above the
+    next, however the SRDF lists them (xarm7's SRDF gives its arm as joints); the tip is the last
+    joint's child link, which IK moves by default."""
+    from scene_helpers import TOY_URDF
+
+    srdf = """<robot name="robot">
+      <group name="listed"><joint name="link2-tip-joint"/><joint name="base-link1-joint"/></group>
+      <group name="split"><joint name="base-link1-joint"/><link name="tip"/></group>
+    </robot>"""
+    model = RobotModel(str(TOY_URDF), srdf)
+    listed = model.get_joint_model_group("listed")
+    assert (listed.is_chain, listed.chain_tip, listed.ik_tips) == (True, "tip", ["tip"])
+    assert model.get_joint_model_group("split").is_chain
+    hand = panda.get_joint_model_group("hand")  # two fingers side by side: not a chain
+    assert (hand.is_chain, hand.ik_tips) == (False, [])
+    assert not panda.get_joint_model_group("panda_arm_hand").is_chain
+
+
 def test_joint_limits_override(toy):
     """joint_limits overrides velocity and acceleration per joint."""
     from scene_helpers import TOY_SRDF, TOY_URDF

@@ -474,6 +474,15 @@ class RobotModel:
             link = joint.parent
         return joints[::-1]
 
+    def _is_above(self, upper: str, lower: str) -> bool:
+        """Whether joint ``upper`` lies on the way from the root to joint ``lower``."""
+        link = self._joints[lower].parent
+        while (joint := self._parent_joint.get(link)) is not None:
+            if joint.name == upper:
+                return True
+            link = joint.parent
+        return False
+
     def _subtree_links(self, link: str) -> list[str]:
         out, stack = [], [link]
         while stack:
@@ -510,10 +519,8 @@ class RobotModel:
             parent = self._parent_joint.get(link)
             if parent is not None:
                 joints.append(parent.name)
-        chain_tip = ""
         for base, tip in spec.chains:
             joints.extend(self._chain_joints(base, tip, context))
-            chain_tip = tip
         subgroups = []
         for sub in spec.subgroups:
             if sub not in specs:
@@ -533,6 +540,10 @@ class RobotModel:
         links = sorted(dict.fromkeys(links), key=lambda n: self._links.index(n))
         active = [n for n in joints if n in self._active_names]
         indices = np.array([self._var_index[n] for n in active], dtype=int)
+        # as MoveIt: a chain whenever each joint (in tree order) lies above the next one, however
+        # the SRDF gave them; its tip is the last joint's child link (a chain element's tip link)
+        is_chain = bool(active) and all(self._is_above(a, b) for a, b in zip(joints, joints[1:]))
+        chain_tip = (spec.chains[-1][1] if spec.chains else self._joints[joints[-1]].child) if is_chain else ""
         # as MoveIt's updated links: everything below the group's joints, fixed ones included
         updated = []
         for name in joints:
@@ -550,7 +561,7 @@ class RobotModel:
             lower_bounds=self.lower_bounds[indices],
             upper_bounds=self.upper_bounds[indices],
             subgroup_names=subgroups,
-            is_chain=len(spec.chains) == 1 and not spec.joints and not spec.links and not spec.subgroups,
+            is_chain=is_chain,
             chain_tip=chain_tip,
         )
 
