@@ -337,6 +337,20 @@ def test_neither_eef_nor_group(make_task):
     assert [f.comment for f in ik.failures] == ["Neither eef nor group are well defined"]
 
 
+def test_group_without_end_effector_tip_fails_to_derive_the_link(make_task):
+    """No eef and no ik_frame: the link is the group's one end-effector tip. "hand" holds no end
+    effector's parent link (MoveIt attaches "hand" to the groups holding panda_link8), so MTC's
+    failure; panda_arm_hand holds it and solves for panda_link8."""
+    task, ik = _ik_task(make_task, _pose(z=0.1), group="hand")
+    assert not task.plan()
+    assert [f.comment for f in ik.failures] == ["Failed to derive IK target link"]
+    task, ik = _ik_task(make_task, _pose(z=0.05), group="panda_arm_hand")
+    assert task.plan()
+    reached = ik.solutions[0].end.scene.current_state.get_global_link_transform("panda_link8")
+    start = task["current state"].solutions[0].end.scene.current_state.get_global_link_transform("panda_link8")
+    assert reached[:3, 3] == pytest.approx((start @ np.array([0, 0, 0.05, 1.0]))[:3], abs=1e-4)
+
+
 def test_forwarded_properties_reach_the_ik_states(make_task):
     """ComputeIK copies its forwarded properties from the generator's state to its own states."""
     task, ik = _ik_task(make_task, _pose(z=0.1))
