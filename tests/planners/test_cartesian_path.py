@@ -184,13 +184,16 @@ def test_path_constraint_stops_the_line(ready_scene):
     assert fraction == pytest.approx(0.75, abs=0.06)  # region ends 15 cm into the 20 cm line
 
 
-def test_joint_goal_moves_the_tip_straight(ready_scene):
-    """A joint goal: the group's tip moves on the line to its pose in the goal state."""
+@pytest.mark.parametrize("group", ["panda_arm", "panda_arm_hand"])
+def test_joint_goal_moves_the_tip_straight(ready_scene, group):
+    """A joint goal: the group's tip moves on the line to its pose in the goal state. As MoveIt
+    attaches an end effector to every group holding its parent link, panda_arm_hand (panda_arm
+    + hand) has panda_link8 as its tip too."""
     goal = ready_scene.diff()
     goal.current_state.set_variable_positions({"panda_joint1": 0.3, "panda_joint2": -0.6})
     T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
     T1 = goal.current_state.get_global_link_transform("panda_link8")
-    result, traj = CartesianPath().plan(ready_scene, goal, "panda_arm", 1.0)
+    result, traj = CartesianPath().plan(ready_scene, goal, group, 1.0)
     assert result
     assert np.allclose(traj[-1].get_global_link_transform("panda_link8"), T1, atol=1e-5)
     assert _deviation(traj, T0, T1)[0] <= 0.001
@@ -221,18 +224,6 @@ def test_joint_goal_ik_frame_errors(ready_scene):
     planner.setIKFrame("world")  # not on the robot, and "hand" has no unique tip to fall back on
     result, _ = planner.plan(ready_scene, goal, "hand", 1.0)
     assert result == PlannerResult(False, "CartesianPath: ik_frame doesn't specify a link frame")
-
-
-def test_joint_goal_group_holding_the_end_effector_parent_uses_its_tip(ready_scene):
-    """As MoveIt attaches an end effector to every group holding its parent link, panda_arm_hand
-    (panda_arm + hand) has panda_link8 as its tip: the flange keeps to the straight line."""
-    goal = ready_scene.diff()
-    goal.current_state.set_variable_positions({"panda_joint1": 0.3, "panda_joint4": -2.0})
-    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
-    T1 = goal.current_state.get_global_link_transform("panda_link8")
-    result, traj = CartesianPath().plan(ready_scene, goal, "panda_arm_hand", 1.0)
-    assert result
-    assert _deviation(traj, T0, T1, link="panda_link8")[0] <= 0.001
 
 
 @pytest.mark.parametrize("frame", ["", "world"])
