@@ -543,7 +543,7 @@ class RobotModel:
         # as MoveIt: a chain whenever each joint (in tree order) lies above the next one, however
         # the SRDF gave them; its tip is the last joint's child link (a chain element's tip link)
         is_chain = bool(active) and all(self._is_above(a, b) for a, b in zip(joints, joints[1:]))
-        chain_tip = (spec.chains[-1][1] if spec.chains else self._joints[joints[-1]].child) if is_chain else ""
+        chain_tip = self._joints[joints[-1]].child if is_chain else ""
         # as MoveIt's updated links: everything below the group's joints, fixed ones included
         updated = []
         for name in joints:
