@@ -122,6 +122,8 @@ SHORTCUT_FAILURES = 2
 #: Sub-searches with the search's own (sampled) checks that replace an edge failing the full
 #: check, before one with full checks of every edge it tries.
 REPAIR_TRIES = 2
+#: Levels of repairs of a repairing sub-search's own path (see OMPLPipeline._repair).
+REPAIR_DEPTH = 1
 #: Fewest waypoints of a returned path (MoveIt's ``minimum_waypoint_count``).
 MIN_WAYPOINT_COUNT = 10
 #: IK solutions sampled as goal states of a pose goal.
@@ -1313,10 +1315,11 @@ class OMPLPipeline:
         self.last_stats.simplify_time += time.perf_counter() - t0
         return out
 
-    def _repair(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int):
+    def _repair(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int, depth: int = 0):
         """``path`` with every edge that fails the full check replaced by a path searched anew
         (:data:`REPAIR_TRIES` sub-searches with the search's checks whose paths are then
-        checked in full, then one with full checks); None if none is found in time."""
+        checked in full, the failing edges of such a path repaired in turn up to
+        :data:`REPAIR_DEPTH` levels, then one with full checks); None if none is found in time."""
         checker = req.checker
         out = [path[0]]
         fine_before = checker.search_fine
@@ -1332,9 +1335,16 @@ class OMPLPipeline:
                 # every edge a sub-search tries would cost far more); the last with full checks
                 for k in range(REPAIR_TRIES + 1):
                     checker.search_fine = k == REPAIR_TRIES
-                    sub, _ = runner(req, a, [b], cls_name, seed + 7919 * (i + 1) + 104729 * k, None)
+                    sub_seed = seed + 7919 * (i + 1) + 104729 * k
+                    sub, _ = runner(req, a, [b], cls_name, sub_seed, None)
                     if sub is None or checker.path_ok(sub, fine=True):
                         break
+                    if depth < REPAIR_DEPTH:
+                        # most of such a path holds: replan only its failing edges
+                        checker.search_fine = fine_before
+                        sub = self._repair(req, sub, runner, cls_name, sub_seed + 1, depth + 1)
+                        if sub is not None:
+                            break
                     sub = None
                 checker.search_fine = fine_before
                 if sub is None:
