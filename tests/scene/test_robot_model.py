@@ -229,6 +229,35 @@ def test_a_group_of_joints_in_a_row_is_a_chain(panda):
     assert not panda.get_joint_model_group("panda_arm_hand").is_chain
 
 
+def _one_joint_urdf(safety: str) -> str:
+    return f"""<robot name="r"><link name="a"/><link name="b"/>
+      <joint name="j" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+        <limit lower="-2" upper="2" velocity="1" effort="1"/>{safety}</joint></robot>"""
+
+
+@pytest.mark.parametrize(
+    "safety, bounds",
+    [
+        ("", (-2.0, 2.0)),
+        ('<safety_controller k_velocity="1" soft_lower_limit="-1.5" soft_upper_limit="1.8"/>', (-1.5, 1.8)),
+        ('<safety_controller k_velocity="1" soft_lower_limit="-3" soft_upper_limit="3"/>', (-2.0, 2.0)),
+        ('<safety_controller k_velocity="1" soft_lower_limit="-1"/>', (-1.0, 0.0)),  # urdfdom: missing = 0
+    ],
+)
+def test_safety_controller_soft_limits_bound_the_joint(safety, bounds):
+    """As MoveIt (jointBoundsFromURDF): a <safety_controller>'s soft limits, within the hard
+    ones, are the joint's bounds."""
+    model = RobotModel(_one_joint_urdf(safety))
+    assert (model.lower_bounds[0], model.upper_bounds[0]) == bounds
+
+
+def test_soft_limits_leaving_no_range_are_an_error():
+    with pytest.raises(DescriptionError, match="joint 'j': the <safety_controller> soft limits leave no position"):
+        RobotModel(_one_joint_urdf('<safety_controller k_velocity="1" soft_lower_limit="0.5"/>'))
+    with pytest.raises(DescriptionError, match="soft_upper_limit='x' is not a number"):
+        RobotModel(_one_joint_urdf('<safety_controller k_velocity="1" soft_upper_limit="x"/>'))
+
+
 def test_joint_limits_override(toy):
     """joint_limits overrides velocity and acceleration per joint."""
     from scene_helpers import TOY_SRDF, TOY_URDF

@@ -87,6 +87,9 @@ def _check_urdf_numbers(root: ET.Element, label: str) -> None:
         for limit in joint.findall("limit"):
             for attr in ("lower", "upper", "velocity", "effort"):
                 _numbers(limit, attr, 1, context)
+        for safety in joint.findall("safety_controller"):
+            for attr in ("soft_lower_limit", "soft_upper_limit"):
+                _numbers(safety, attr, 1, context)
         for mimic in joint.findall("mimic"):
             for attr in ("multiplier", "offset"):
                 _numbers(mimic, attr, 1, context)
@@ -236,6 +239,17 @@ class RobotModel:
                 if jtype != "continuous":
                     joint.lower = float(limit.get("lower", 0.0))
                     joint.upper = float(limit.get("upper", 0.0))
+                    safety = j.find("safety_controller")
+                    if safety is not None:
+                        # as MoveIt: the soft limits, within the hard ones (urdfdom reads a
+                        # missing soft limit as 0)
+                        joint.lower = max(joint.lower, float(safety.get("soft_lower_limit", 0.0)))
+                        joint.upper = min(joint.upper, float(safety.get("soft_upper_limit", 0.0)))
+                        if joint.lower > joint.upper:
+                            raise DescriptionError(
+                                f"{label}: joint '{name}': the <safety_controller> soft limits leave no "
+                                f"position within <limit> (a missing soft limit counts as 0, as in MoveIt)"
+                            )
             elif jtype in ("revolute", "prismatic"):
                 raise DescriptionError(f"{label}: {jtype} joint '{name}' has no <limit>")
             mimic = j.find("mimic")
