@@ -38,7 +38,7 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
-from mtc.scene.robot_model import RobotModel
+from mtc.scene.robot_model import RobotModel, wrap_angle
 from mtc.scene.robot_state import RobotState
 
 __all__ = [
@@ -109,7 +109,7 @@ class _Joint:
         """Signed difference of the joint from its target [rad or m]."""
         d = q[self.index] - self.position
         if self.continuous:
-            d = (d + math.pi) % (2 * math.pi) - math.pi
+            d = wrap_angle(d)
         return d
 
     def violation(self, q: np.ndarray) -> float:
@@ -320,7 +320,7 @@ class KinematicConstraintSet:
             raise ValueError(f"{where}: position must be finite, got {position}")
         continuous = bool(model.continuous_mask[index])
         if continuous:
-            position = (position + math.pi) % (2 * math.pi) - math.pi
+            position = wrap_angle(position)
         return _Joint(jc.joint_name, index, position, above, below, continuous, _weight(jc.weight))
 
     def _check_link(self, link: str, where: str) -> None:

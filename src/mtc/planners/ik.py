@@ -33,7 +33,7 @@ import pinocchio as pin
 
 from mtc import msgs
 from mtc.scene.frames import rigid_inverse
-from mtc.scene.robot_model import RobotModel
+from mtc.scene.robot_model import RobotModel, shortest_delta
 from mtc.scene.robot_state import RobotState, as_rng
 
 log = logging.getLogger(__name__)
@@ -148,9 +148,7 @@ class IKSolver:
     def group_distance(self, qa: np.ndarray, qb: np.ndarray) -> float:
         """Sum of absolute differences of the group's variables (continuous joints wrap), as
         ``RobotState.distance``."""
-        delta = qa[self._idx] - qb[self._idx]
-        if self._continuous.any():
-            delta = np.where(self._continuous, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
+        delta = shortest_delta(qa[self._idx] - qb[self._idx], self._continuous)
         return float(np.abs(delta).sum())
 
     def descend(self, q: np.ndarray, target: pin.SE3, tolerance: float = DEFAULT_TOLERANCE,

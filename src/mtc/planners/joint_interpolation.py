@@ -16,6 +16,7 @@ from mtc import msgs
 from mtc.planners import ik
 from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult
 from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_model import shortest_delta
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
 
@@ -28,9 +29,7 @@ def _max_joint_distance(a: RobotState, b: RobotState) -> float:
     model = a.robot_model
     mask = model.active_variable_mask
     delta = b.positions[mask] - a.positions[mask]
-    cont = model.continuous_mask[mask]
-    if cont.any():
-        delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
+    delta = shortest_delta(delta, model.continuous_mask[mask])
     return float(np.abs(delta).max()) if delta.size else 0.0
 
 

@@ -79,7 +79,7 @@ import ompl.util as ou
 from mtc import msgs
 from mtc.planners.constraints import ConstraintEvaluator, KinematicConstraintSet
 from mtc.scene.planning_scene import PlanningScene
-from mtc.scene.robot_model import JointModelGroup, RobotModel
+from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta, wrap_angle
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
 
@@ -622,10 +622,7 @@ class _EdgeChecker:
         ``qb`` (continuous joints the short way) are collision-free at every state
         (:meth:`_certify`; sampled at the resolution where the joints allow no proof)."""
         model = self._model
-        delta = np.asarray(qb, dtype=float) - qa
-        cont = model.continuous_mask
-        if cont.any():
-            delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
+        delta = shortest_delta(np.asarray(qb, dtype=float) - qa, model.continuous_mask)
         self.states_checked += 1
         if not self._collision_free(qa):
             return False
@@ -1006,7 +1003,7 @@ class OMPLPipeline:
         original = None
         x = base[idx].copy()
         unwrapped = x.copy()
-        x[cont] = (x[cont] + np.pi) % (2 * np.pi) - np.pi
+        x[cont] = wrap_angle(x[cont])
         turns = unwrapped - x  # multiples of 2 pi, added back to the path
         # a continuous joint may turn a whole turn either way from the start (as on MoveIt's SO(2)
         # spaces a path may cross +-pi): its goal is given in both directions (see _turned_goals)
@@ -1087,7 +1084,7 @@ class OMPLPipeline:
         model = req.scene.robot_model
         jmg = req.group
         cont = model.continuous_mask[jmg.variable_indices]
-        x_goal[cont] = (x_goal[cont] + np.pi) % (2 * np.pi) - np.pi
+        x_goal[cont] = wrap_angle(x_goal[cont])
         lo, hi = self._group_bounds(model, jmg.variable_indices)
         bad = np.nonzero((x_goal < lo - 1e-9) | (x_goal > hi + 1e-9))[0]
         if bad.size:
@@ -1198,7 +1195,7 @@ class OMPLPipeline:
         short = []
         for g in goals:
             g = np.array(g, dtype=float)
-            g[turning] = x[turning] + (g[turning] - x[turning] + np.pi) % (2 * np.pi) - np.pi
+            g[turning] = x[turning] + wrap_angle(g[turning] - x[turning])
             short.append(g)
         out = list(short)
         for g in short:

@@ -48,6 +48,7 @@ from mtc.planners.time_parameterization import (
 )
 from mtc.scene.frames import rigid_inverse
 from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_model import shortest_delta, unwrap_path
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
 
@@ -307,10 +308,7 @@ class PilzPipeline:
         model.enforce_mimic(goal_q)
         self._check_endpoints(validity, start_q, goal_q, jmg)
         q0 = start_q[idx]
-        delta = goal_q[idx] - q0
-        cont = model.continuous_mask[idx]
-        if cont.any():  # continuous joints take the short way round
-            delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
+        delta = shortest_delta(goal_q[idx] - q0, model.continuous_mask[idx])  # continuous joints: the short way
         if float(np.abs(delta).max(initial=0.0)) < _GOAL_REACHED:
             # as Pilz: the goal is reached already; one point, at the start, one sampling time in
             Z = np.zeros(len(idx))
@@ -475,11 +473,7 @@ class PilzPipeline:
         self._check_path(validity, Q, skip_constraints=is_circ)
 
         # then the timing: s(t) a trapezoid, joint motion q(s(t)), slowed where the joints cannot follow
-        P = np.array([q[idx] for q in Q])
-        cont = model.continuous_mask[idx]
-        if cont.any():
-            d = np.diff(P[:, cont], axis=0)
-            P[1:, cont] = P[0, cont] + np.cumsum((d + np.pi) % (2 * np.pi) - np.pi, axis=0)
+        P = unwrap_path(np.array([q[idx] for q in Q]), model.continuous_mask[idx])
         dq = np.gradient(P, fractions, axis=0)
         ddq = np.gradient(dq, fractions, axis=0)
         vmax = model.velocity_limits[idx] * vs

@@ -25,7 +25,7 @@ from mtc.planners.time_parameterization import (
     limit_cartesian_speed,
 )
 from mtc.scene.planning_scene import PlanningScene
-from mtc.scene.robot_model import JointModelGroup, RobotModel
+from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
 
@@ -153,10 +153,7 @@ class PathValidity:
             self._motion = self.scene.motion_checker(self.group)
         model = self.scene.robot_model
         qa = np.asarray(qa, dtype=float)
-        delta = np.asarray(qb, dtype=float) - qa
-        cont = model.continuous_mask
-        if cont.any():
-            delta = np.where(cont, (delta + np.pi) % (2 * np.pi) - np.pi, delta)
+        delta = shortest_delta(np.asarray(qb, dtype=float) - qa, model.continuous_mask)
         if self._motion.certifiable:
             return self._motion.motion_free(qa, qa + delta, max(1, int(segments)))[0]
         n = max(1, math.ceil(float(np.abs(delta).max(initial=0.0)) / MOTION_FALLBACK_STEP))

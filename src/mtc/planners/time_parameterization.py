@@ -35,6 +35,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 import ruckig
 
+from mtc.scene.robot_model import unwrap_path
 from mtc.scene.robot_trajectory import RobotTrajectory
 
 log = logging.getLogger(__name__)
@@ -296,14 +297,8 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0):
 
 
 def _unwrapped_positions(trajectory: RobotTrajectory) -> np.ndarray:
-    Q = trajectory.positions.astype(float)
-    model = trajectory.robot_model
-    cont = model.continuous_mask[trajectory.group.variable_indices]
-    if cont.any() and len(Q) > 1:
-        d = np.diff(Q[:, cont], axis=0)
-        d = (d + np.pi) % (2 * np.pi) - np.pi
-        Q[1:, cont] = Q[0, cont] + np.cumsum(d, axis=0)
-    return Q
+    continuous = trajectory.robot_model.continuous_mask[trajectory.group.variable_indices]
+    return unwrap_path(trajectory.positions.astype(float), continuous)
 
 
 def time_parameterize(

@@ -23,7 +23,16 @@ from mtc.scene.srdf import SRDF, DescriptionError, GroupSpec, parse_srdf, parse_
 
 log = logging.getLogger(__name__)
 
-__all__ = ["RobotModel", "JointModelGroup", "EndEffector", "DescriptionError", "default_package_dirs"]
+__all__ = [
+    "RobotModel",
+    "JointModelGroup",
+    "EndEffector",
+    "DescriptionError",
+    "default_package_dirs",
+    "wrap_angle",
+    "shortest_delta",
+    "unwrap_path",
+]
 
 #: Acceleration limit used where neither the URDF nor ``joint_limits`` gives one [rad/s^2 or m/s^2].
 DEFAULT_ACCELERATION_LIMIT = 3.0
@@ -32,6 +41,26 @@ DEFAULT_VELOCITY_LIMIT = 1.0
 #: Default time budget of one IK call for a group [s].
 DEFAULT_IK_TIMEOUT = 0.05
 _UNBOUNDED = 1e9  # limit written into Pinocchio's copy of a continuous joint
+
+
+def wrap_angle(x):
+    """Angles (or differences of angles) wrapped into [-pi, pi): scalars or arrays."""
+    return (x + np.pi) % (2 * np.pi) - np.pi
+
+
+def shortest_delta(delta: np.ndarray, continuous: np.ndarray) -> np.ndarray:
+    """Joint changes ``delta`` with those of continuous joints (the mask ``continuous``)
+    taken the short way round."""
+    return np.where(continuous, wrap_angle(delta), delta) if continuous.any() else delta
+
+
+def unwrap_path(P: np.ndarray, continuous: np.ndarray) -> np.ndarray:
+    """The waypoints ``P`` (rows of joint values; changed in place and returned) with the
+    continuous joints (the mask ``continuous``) made continuous along the path: each step the
+    short way round, from the first waypoint's value."""
+    if continuous.any() and len(P) > 1:
+        P[1:, continuous] = P[0, continuous] + np.cumsum(wrap_angle(np.diff(P[:, continuous], axis=0)), axis=0)
+    return P
 
 
 def default_package_dirs() -> list[str]:

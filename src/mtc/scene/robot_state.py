@@ -11,7 +11,7 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
-from mtc.scene.robot_model import JointModelGroup, RobotModel
+from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta
 
 __all__ = ["RobotState", "as_rng"]
 
@@ -25,10 +25,6 @@ def as_rng(rng: np.random.Generator | int | None) -> np.random.Generator:
     if isinstance(rng, (int, np.integer)):
         return np.random.default_rng(int(rng))
     raise TypeError(f"rng must be a numpy Generator, an int seed or None, not {type(rng).__name__}")
-
-
-def _wrap(delta: np.ndarray) -> np.ndarray:
-    return (delta + np.pi) % (2 * np.pi) - np.pi
 
 
 class RobotState:
@@ -172,17 +168,12 @@ class RobotState:
         variables or, without a group, all active variables (MoveIt's ``RobotState::distance``)."""
         idx = self._group(group).variable_indices
         delta = self._q[idx] - other._q[idx]
-        cont = self._model.continuous_mask[idx]
-        if cont.any():
-            delta = np.where(cont, _wrap(delta), delta)
+        delta = shortest_delta(delta, self._model.continuous_mask[idx])
         return float(np.abs(delta).sum())
 
     def interpolate(self, other: RobotState, t: float, group: str | None = None) -> RobotState:
         """The state ``t`` of the way from this one to ``other`` (continuous joints the short way)."""
-        delta = other._q - self._q
-        cont = self._model.continuous_mask
-        if cont.any():
-            delta = np.where(cont, _wrap(delta), delta)
+        delta = shortest_delta(other._q - self._q, self._model.continuous_mask)
         q = self._q + t * delta
         if group:
             keep = np.ones(q.size, dtype=bool)
