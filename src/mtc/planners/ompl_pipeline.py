@@ -1036,8 +1036,8 @@ class OMPLPipeline:
             raise KeyError(f"path constraints: {e.args[0] if e.args else e}") from None
         checker = _EdgeChecker(scene, jmg, base, evaluator, self.resolution, self.search_ratio)
         req = _Request(
-            scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0, turns,
-            free_turning,
+            scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0,
+            turns, free_turning,
         )
         # start validity: collision (with the bodies named), then path constraints
         start_state = RobotState(model, base)

@@ -457,7 +457,8 @@ class PilzPipeline:
             q = Q[-1].copy()
             if not solver.descend(q, frame_pose(s) * inv_offset):
                 raise self._part_way(validity, error_message(
-                    "NO_IK_SOLUTION", f"{planner_id}: no IK solution at {100 * s:.1f} % of the path of '{link}'"), Q, is_circ)
+                    "NO_IK_SOLUTION", f"{planner_id}: no IK solution at {100 * s:.1f} % of the path of '{link}'"
+                ), Q, is_circ)
             # a joint-space jump between samples shows as a midpoint off the path
             qm = 0.5 * (Q[-1] + q)
             model.enforce_mimic(qm)

@@ -458,23 +458,18 @@ class RobotModel:
                 raise DescriptionError(
                     f"SRDF: end effector '{e.name}' has unknown parent group '{e.parent_group}'"
                 )
+            # as MoveIt: an end effector is attached to every other group holding its parent link
+            # (a group without one has no end-effector tip); without a parent group in the SRDF,
+            # its parent group is the one of those with the fewest joints (the first by name)
+            holders = [g for g in self._groups.values() if g.name != e.group and e.parent_link in g.link_model_names]
+            for g in holders:
+                if e.parent_link not in g.end_effector_tips:
+                    g.end_effector_tips.append(e.parent_link)
             parent_group = e.parent_group
-            if not parent_group:
-                # as MoveIt: of the other groups holding the parent link, the one with the
-                # fewest joints (the first by name among equals)
-                holders = sorted(
-                    (len(g.joint_model_names), g.name) for g in self._groups.values()
-                    if g.name != e.group and e.parent_link in g.link_model_names
-                )
-                parent_group = holders[0][1] if holders else ""
+            if not parent_group and holders:
+                parent_group = min(holders, key=lambda g: (len(g.joint_model_names), g.name)).name
             self._end_effectors[e.name] = EndEffector(e.name, e.group, e.parent_link, parent_group)
-        # as MoveIt: an end effector is attached to every other group that holds its parent link
-        # (not only to its parent group); a group without one has no end-effector tip
         for group in self._groups.values():
-            group.end_effector_tips = list(dict.fromkeys(
-                e.parent_link for e in self._end_effectors.values()
-                if e.group != group.name and e.parent_link in group.link_model_names
-            ))
             group.ik_tips = [e.parent_link for e in self._end_effectors.values() if e.parent_group == group.name]
             if not group.ik_tips and group.chain_tip:
                 group.ik_tips = [group.chain_tip]
