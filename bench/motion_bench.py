@@ -2,7 +2,8 @@
 
 Both planners get the same problems in the same run:
 
-* the MotionBenchMaker problems in ``shared/data/motion_bench_maker`` (families
+* the MotionBenchMaker problems (``$MTC_MBM_DIR``, else ``shared/data/motion_bench_maker``
+  beside the repository, else the repository's copy in ``bench/data``; families
   ``table_pick``, ``box``, ``bookshelf_small``), built into an mtc ``PlanningScene`` from the
   problem's obstacles (one ``msgs.CollisionObject`` per primitive), its allowed collision
   matrix, and the fingers fixed at the start state's opening (clamped to the URDF's 0.04 m, as

@@ -122,16 +122,22 @@ class Problem:
 # Paths and the Panda description
 
 
+#: The repository's copy of the problems (``bench/data/motion_bench_maker``), for clean clones.
+BUNDLED_ROOT = Path(__file__).resolve().parent / "data" / "motion_bench_maker"
+
+
 def default_root() -> Path:
     """Folder of the MotionBenchMaker problems.
 
     ``$MTC_MBM_DIR`` if set, else ``shared/data/motion_bench_maker`` next to the repository
-    (this file is ``<repo>/bench/problems.py``).
+    (this file is ``<repo>/bench/problems.py``) if it exists, else the repository's copy
+    :data:`BUNDLED_ROOT`.
     """
     env = os.environ.get("MTC_MBM_DIR")
     if env:
         return Path(env)
-    return (Path(__file__).resolve().parents[2] / "shared" / "data" / "motion_bench_maker").resolve()
+    shared = (Path(__file__).resolve().parents[2] / "shared" / "data" / "motion_bench_maker").resolve()
+    return shared if shared.is_dir() else BUNDLED_ROOT
 
 
 def example_robot_data_share() -> Path:

@@ -103,6 +103,27 @@ def test_root_comes_from_mtc_mbm_dir(tmp_path, monkeypatch):
     assert [p.name for p in P.load_all()["box"]] == ["box/0007"]
 
 
+def test_without_mtc_mbm_dir_shared_folder_comes_before_the_bundled_copy(tmp_path, monkeypatch):
+    """Without MTC_MBM_DIR: shared/data/motion_bench_maker beside the repository if it exists,
+    else the repository's own copy (a clean clone has only that)."""
+    monkeypatch.delenv("MTC_MBM_DIR")
+    repo = tmp_path / "repo"
+    (repo / "bench").mkdir(parents=True)
+    monkeypatch.setattr(P, "__file__", str(repo / "bench" / "problems.py"))
+    assert P.default_root() == P.BUNDLED_ROOT
+    shared = tmp_path / "shared" / "data" / "motion_bench_maker"
+    shared.mkdir(parents=True)
+    assert P.default_root() == shared.resolve()
+
+
+def test_bundled_copy_holds_the_three_families():
+    """The repository's copy is complete: 50 problems per family, scene and request each."""
+    for family in FAMILIES:
+        folder = P.BUNDLED_ROOT / f"{family}_panda"
+        assert len(list(folder.glob("scene*.yaml"))) == 50
+        assert len(list(folder.glob("request*.yaml"))) == 50
+
+
 def test_obstacle_rejects_bad_dimensions():
     """A cylinder with a zero radius is refused with its name."""
     with pytest.raises(ValueError, match="obstacle 'c': dimensions must be positive"):
