@@ -841,6 +841,37 @@ def test_link_collisions_at_a_pose_honour_the_acm_and_carry_attached_objects(sce
     assert scene.get_link_collisions_at("panda_link8", _tcp_at(scene, (0.6, 0.0, 0.3))) == [("tool", "b")]
 
 
+def test_link_collisions_at_a_pose_allow_the_moving_links_above(scene, panda):
+    """As MTC's end-effector check: the IK link itself (panda_link7, moved by joint 7) and the
+    arm above it may collide; only the links below it (and the base, fixed to the root) count."""
+    assert panda.links_moved_above("panda_link8") == ["panda_link8", "panda_link7"] + [
+        f"panda_link{k}" for k in range(6, 0, -1)
+    ]
+    assert panda.links_moved_above("panda_link0") == []  # the root: fixed to itself
+    l7 = scene.current_state.get_global_link_transform("panda_link7")
+    # a small sphere touching link7 only: ignored
+    scene.apply_collision_object(sphere("s7", l7[:3, 3] + (0.05, 0.0, -0.07), 0.015))
+    assert scene.get_collisions() == [("panda_link7", "s7")]
+    assert scene.get_link_collisions_at("panda_link7", l7) == []
+    # one at the hand: reported, moved body first
+    hand = scene.current_state.get_global_link_transform("panda_hand")[:3, 3]
+    scene.apply_collision_object(sphere("sh", hand, 0.02))
+    assert scene.get_link_collisions_at("panda_link7", l7) == [("panda_hand", "sh")]
+
+
+def test_link_collisions_at_a_pose_include_the_base(scene):
+    """The hand placed into the robot's base (fixed to the root) collides with it: MTC checks
+    the moved links against the links fixed to the root as well as the world."""
+    state = scene.current_state
+    l7, hand = state.get_global_link_transform("panda_link7"), state.get_global_link_transform("panda_hand")
+    hand_at_base = np.eye(4)
+    hand_at_base[:3, 3] = (0.0, 0.0, 0.1)
+    target = hand_at_base @ np.linalg.solve(hand, l7)  # link7's pose putting the hand there
+    assert ("panda_hand", "panda_link0") in scene.get_link_collisions_at("panda_link7", target)
+    scene.allowed_collision_matrix.set_entry("panda_hand", "panda_link0", True)
+    assert ("panda_hand", "panda_link0") not in scene.get_link_collisions_at("panda_link7", target)
+
+
 def test_descendant_links(panda):
     """descendant_link_names: the link itself and every link below it; unknown links name the links."""
     assert panda.descendant_link_names("panda_link8") == [

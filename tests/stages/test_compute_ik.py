@@ -270,6 +270,21 @@ def test_eef_in_collision_comment_starts_with_the_upstream_comment(make_task, bo
     assert sorted(f.comment.split(" eef in collision: ")[0] for f in ik.failures) == ["3.141593", "6.283185"]
 
 
+def test_eef_check_leaves_out_the_ik_link_moved_by_a_joint(make_task, sphere):
+    """MTC's end-effector check allows the collisions of the IK link's rigid parent when a joint
+    moves it (panda_link7 for the hand): an obstacle touching only link7 at the target passes
+    that check, and the IK candidates reaching the target fail on it instead."""
+    scene = mtc.current_scene()
+    at_link7 = scene.current_state.get_global_link_transform("panda_link7")[:3, 3] + (0.05, 0.0, -0.07)
+    scene.apply_collision_object(sphere("obstacle", tuple(at_link7), radius=0.015))
+    assert scene.get_collisions() == [("panda_link7", "obstacle")]
+    task, ik = _ik_task(make_task, _pose(), max_ik_attempts=3)  # the current pose of panda_link8
+    assert not task.plan()
+    comments = [f.comment for f in ik.failures]
+    assert comments and not any("eef in collision" in c for c in comments), comments
+    assert all(c.startswith("Collision between obstacle - panda_link") for c in comments), comments
+
+
 def test_ignore_collisions_skips_the_checks(make_task, box):
     """ignore_collisions: the same blocked target is solved."""
     mtc.current_scene().apply_collision_object(box("obstacle", (0.5, 0.0, 0.4), size=(0.12, 0.12, 0.12)))

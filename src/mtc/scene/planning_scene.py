@@ -1161,15 +1161,20 @@ class PlanningScene:
     def get_link_collisions_at(
         self, link: str, pose: np.ndarray, state: RobotState | None = None
     ) -> list[tuple[str, str]]:
-        """World collisions of ``link``, every link below it and the objects attached to them,
-        moved rigidly so that ``link`` lies at ``pose`` (4x4, planning frame), the rest of the
-        robot left where ``state`` (default: the current state) has it. As MoveIt's check of an
-        end effector placed at a target before solving IK.
+        """Collisions of the robot with ``link``, every link below it and the objects attached
+        to them moved rigidly so that ``link`` lies at ``pose`` (4x4, planning frame), the rest
+        of the robot left where ``state`` (default: the current state) has it. As MTC's check
+        of an end effector placed at an IK target before solving IK: the collisions of
+        ``link`` and of its ancestors that a joint moves (:meth:`RobotModel.links_moved_above`)
+        are allowed; the moved bodies and the links fixed to the root are checked against the
+        world, the attached objects and each other, as the ACM allows.
 
         Returns:
-            (moved body, world object) pairs, each once, honouring the ACM.
+            (body, body) pairs, each once, a moved body first.
         """
-        moved_links = set(self._model.descendant_link_names(link))
+        model = self._model
+        moved_links = set(model.descendant_link_names(link))
+        ignored = set(model.links_moved_above(link))
         st = self._state if state is None else state
         delta = np.asarray(pose, dtype=float) @ np.linalg.inv(st.get_global_link_transform(link))
         env = self._collision_env()
@@ -1179,30 +1184,24 @@ class PlanningScene:
         request = coal.CollisionRequest()
         request.gjk_tolerance = GJK_TOLERANCE  # the fast checks' settings (see CONTACT_MARGIN)
         request.security_margin = CONTACT_MARGIN
+        geoms = env.geom_model.geometryObjects
+
+        def placed(g: int) -> coal.Transform3s:
+            placement = shift * gd.oMg[g] if env.bodies[g] in moved and env.kinds[g] != "world" else gd.oMg[g]
+            return coal.Transform3s(placement.rotation, placement.translation)
+
         found: list[tuple[str, str]] = []
         for i, j in env.pairs:
             (a, ka), (b, kb) = (env.bodies[i], env.kinds[i]), (env.bodies[j], env.kinds[j])
-            if a in moved and kb == "world":
-                mover, other = i, j
-            elif b in moved and ka == "world":
-                mover, other = j, i
-            else:
+            if (ka == "robot" and a in ignored) or (kb == "robot" and b in ignored):
                 continue
-            key = (env.bodies[mover], env.bodies[other])
-            if key in found:
+            if kb != "world" and b in moved and not (ka != "world" and a in moved):
+                i, j, a, b = j, i, b, a  # the moved body first
+            if (a, b) in found:
                 continue
             result = coal.CollisionResult()
-            placement = shift * gd.oMg[mover]
-            geoms = env.geom_model.geometryObjects
-            if coal.collide(
-                geoms[mover].geometry,
-                coal.Transform3s(placement.rotation, placement.translation),
-                geoms[other].geometry,
-                coal.Transform3s(gd.oMg[other].rotation, gd.oMg[other].translation),
-                request,
-                result,
-            ):
-                found.append(key)
+            if coal.collide(geoms[i].geometry, placed(i), geoms[j].geometry, placed(j), request, result):
+                found.append((a, b))
         return found
 
     def collision_distances(

@@ -791,6 +791,29 @@ class RobotModel:
             offset = (parent.inverse() * child).homogeneous @ offset
             current = joint.parent
 
+    def links_moved_above(self, link: str) -> list[str]:
+        """``link`` and its ancestors that a movable joint above them moves: every link on the
+        way to the root up to the last movable joint (not the ones fixed to the root). MTC's
+        check of an end effector placed at an IK target allows their collisions.
+
+        Raises:
+            KeyError: unknown link.
+        """
+        self.frame_id(link)
+        moved: list[str] = []
+        pending: list[str] = []
+        current: str | None = link
+        while current is not None:
+            pending.append(current)
+            joint = self._parent_joint.get(current)
+            if joint is None:
+                break
+            if joint.type != "fixed":
+                moved += pending
+                pending = []
+            current = joint.parent
+        return moved
+
     def enforce_mimic(self, q: np.ndarray) -> None:
         """Set mimic followers in ``q`` (in place) from their masters."""
         for follower, master, multiplier, offset in self.mimic_followers:

@@ -61,9 +61,10 @@ __all__ = ["ComputeIK"]
 
 
 def eef_collisions(scene, link: str, link_target: np.ndarray) -> list[tuple[str, str]]:
-    """Collisions with world objects of ``link``, the links below it and the objects attached
-    to them, were ``link`` placed at ``link_target`` (4x4, planning frame) with the rest of
-    the state unchanged (MTC's ``isTargetPoseCollidingInEEF``).
+    """Collisions of ``link``, the links below it and the objects attached to them, were
+    ``link`` placed at ``link_target`` (4x4, planning frame) with the rest of the state
+    unchanged; the collisions of the moving links above are allowed (MTC's
+    ``isTargetPoseCollidingInEEF``).
 
     The scene's own end-effector-at-pose check moves the bodies' placements in the scene's
     collision set-up (built once per scene and shared by the candidates' diffs), instead of
