@@ -231,6 +231,22 @@ def test_min_distance_zero_accepts_any_progress(make_task, ready_scene, move, sp
     assert task.plan()
 
 
+@pytest.mark.parametrize("direction", [vector("panda_hand"), twist("panda_hand")], ids=["vector", "twist"])
+def test_zero_direction_moves_nothing(make_task, ready_scene, move, direction):
+    """A zero vector or twist, even with max_distance, is a zero motion that succeeds, as in MTC
+    (Eigen's normalize leaves a zero vector alone; a zero twist keeps the scale 1); no arrow."""
+    move.setIKFrame("panda_hand")
+    move.setDirection(direction)
+    move.max_distance = 0.1
+    move.marker_ns = "move"
+    task = make_task(start(ready_scene), move)
+    assert task.plan()
+    (solution,) = move.solutions
+    positions = np.array([wp.positions for wp in solution.trajectory.waypoints])
+    np.testing.assert_allclose(positions, ready_scene.current_state.positions[None, :].repeat(len(positions), 0), atol=1e-9)
+    assert solution.markers == []
+
+
 def test_equal_min_and_max_means_full_distance(make_task, ready_scene, move, sphere):
     """min == max: the full distance is required (min_distance treated as -1)."""
     hand = ready_scene.current_state.get_global_link_transform("panda_hand")[:3, 3]

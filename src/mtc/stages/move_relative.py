@@ -31,6 +31,8 @@ log = logging.getLogger(__name__)
 __all__ = ["MoveRelative"]
 
 _EPS = np.finfo(float).eps
+#: Shortest motion [m] that gets arrow markers (MTC draws none for shorter ones).
+_MIN_ARROW = 1e-3
 
 
 class MoveRelative(PlannerStage):
@@ -141,12 +143,12 @@ class MoveRelative(PlannerStage):
                     angular /= angular_norm
                 use_rotation_distance = linear_norm < _EPS
                 if max_distance > 0.0:
+                    # (a zero twist stays zero: as MTC's release build, the stage moves nothing)
+                    scale = 1.0
                     if not use_rotation_distance:
                         scale = max_distance / linear_norm
                     elif angular_norm > _EPS:
                         scale = max_distance / angular_norm
-                    else:
-                        return False, scene, SubTrajectory.failure("direction is a zero twist")
                     linear *= scale
                     linear_norm *= scale
                     angular_norm *= scale
@@ -164,10 +166,8 @@ class MoveRelative(PlannerStage):
             else:
                 v = motion.vector
                 linear = np.array([v.x, v.y, v.z], dtype=float)
-                if max_distance > 0.0:
-                    n = float(np.linalg.norm(linear))
-                    if n < _EPS:
-                        return False, scene, SubTrajectory.failure("direction is a zero vector")
+                n = float(np.linalg.norm(linear))
+                if max_distance > 0.0 and n > 0.0:  # (a zero vector stays zero, as Eigen's normalize)
                     linear *= max_distance / n
                 if backward:
                     linear = -linear
@@ -194,7 +194,7 @@ class MoveRelative(PlannerStage):
                 elif not success:
                     solution.comment = "failed to move full distance"
                 ns = props.get("marker_ns", "")
-                if ns and not use_rotation_distance:
+                if ns and not use_rotation_distance and np.linalg.norm(linear) > _MIN_ARROW:
                     # reached part green, missing part red (MTC's visualizePlan)
                     frame_id = scene.planning_frame
                     given, got, wanted = start_pose[:3, 3], reached[:3, 3], target[:3, 3]
