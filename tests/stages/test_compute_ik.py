@@ -344,6 +344,14 @@ def test_unknown_frames(make_task, pose, ik_frame, message):
     assert [f.comment for f in ik.failures] == [message]
 
 
+def test_ik_frame_in_the_planning_frame_is_the_root_link(make_task):
+    """An ik_frame in the planning frame ("world"): a MoveIt robot state knows that frame as its
+    root link, whose pose no arm joint moves, so the target finds no IK (not an unknown frame)."""
+    task, ik = _ik_task(make_task, _pose(z=0.1), ik_frame=_pose("world"))
+    assert not task.plan()
+    assert [f.comment for f in ik.failures] == [" no IK found"]
+
+
 def test_neither_eef_nor_group(make_task):
     """Without eef and group: failure "Neither eef nor group are well defined"."""
     task, ik = _ik_task(make_task, _pose(z=0.1))

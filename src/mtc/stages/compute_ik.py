@@ -260,8 +260,12 @@ class ComputeIK(WrapperBase):
         try:
             link, frame_offset = resolve_frame(scene, ik_frame.header.frame_id)
         except FrameError:
-            self._fail(s, f"ik frame unknown in robot: '{ik_frame.header.frame_id}'")
-            return
+            if ik_frame.header.frame_id != scene.planning_frame:
+                self._fail(s, f"ik frame unknown in robot: '{ik_frame.header.frame_id}'")
+                return
+            # a MoveIt robot state knows its model frame as its root link (whose IK, for a
+            # fixed base, finds nothing)
+            link, frame_offset = model.root_link_name, np.eye(4)
         offset = frame_offset @ msgs.pose_to_matrix(ik_frame.pose)
         link_target = target @ rigid_inverse(offset)
         markers = [frame_marker(self.markerNS(), "target frame", target_msg),
