@@ -5,7 +5,6 @@ from __future__ import annotations
 import subprocess
 import sys
 
-import pytest
 from mockups import GeneratorMockup, add, toy_model
 
 import mtc
