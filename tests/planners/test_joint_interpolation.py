@@ -188,6 +188,18 @@ def test_pose_goal_respects_path_constraints(ready_scene):
     assert 1.5 - 1e-9 <= traj[-1].joint_positions["panda_joint7"] <= 2.5 + 1e-9
 
 
+def test_cartesian_speed_limit_without_a_link_limits_the_end_effector_tip(ready_scene):
+    """max_cartesian_speed alone limits the group's end-effector tip (panda_link8), as MoveIt's
+    limitMaxCartesianLinkSpeed does for an empty link name; planning does not raise."""
+    planner = JointInterpolationPlanner()
+    planner.max_cartesian_speed = 0.05
+    result, traj = planner.plan(ready_scene, _goal_scene(ready_scene), "panda_arm", 1.0)
+    assert result
+    P = np.array([w.get_global_link_transform("panda_link8")[:3, 3] for w in traj])
+    speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(traj.times)
+    assert 0.05 * 0.8 <= speed.max() <= 0.05 * 1.02
+
+
 def test_cartesian_speed_limit_is_honoured(ready_scene):
     """max_cartesian_speed limits the link's speed (mtc applies it in every planner)."""
     planner = JointInterpolationPlanner()

@@ -10,6 +10,7 @@ an out-parameter trajectory, become two methods that return ``(PlannerResult, tr
 
 from __future__ import annotations
 
+import logging
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
@@ -28,6 +29,8 @@ from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
+
+log = logging.getLogger(__name__)
 
 __all__ = [
     "PlannerInterface",
@@ -298,9 +301,18 @@ class PlannerInterface(TypedPropertyAccess, ABC):
         if speed > 0:
             link = props.get("cartesian_speed_limited_link")
             if not link:
-                raise ValueError("max_cartesian_speed is set but cartesian_speed_limited_link is empty")
-            limit_cartesian_speed(trajectory, speed, link, vs, acs)
-            return
+                # MoveIt's limitMaxCartesianLinkSpeed limits the group's end-effector tip then
+                # (mtc: the first, where a group has several)
+                tips = trajectory.group.end_effector_tips
+                link = tips[0] if tips else ""
+            if link:
+                limit_cartesian_speed(trajectory, speed, link, vs, acs)
+                return
+            log.warning(
+                "max_cartesian_speed is set but neither cartesian_speed_limited_link nor an "
+                "end-effector tip of group '%s' names a link to limit: timing without it",
+                trajectory.group.name,
+            )
         timing = props.get("time_parameterization", None)
         if timing is not None and len(trajectory) > 0:
             timing.computeTimeStamps(trajectory, vs, acs)
