@@ -14,10 +14,11 @@ from mtc.planners.planner_interface import PlannerInterface
 class RecordingPlanner(PlannerInterface):
     """A test double: returns a fixed result after ``delay`` seconds and records its calls."""
 
-    def __init__(self, success: bool, message: str = "", delay: float = 0.0):
+    def __init__(self, success: bool, message: str = "", delay: float = 0.0, partial: bool = False):
         super().__init__()
         self._outcome = PlannerResult(success, message)
         self._delay = delay
+        self._partial = partial  # a failure hands back a (partial) trajectory
         self.calls: list[tuple[str, float]] = []
         self.initialized_with = None
 
@@ -29,7 +30,8 @@ class RecordingPlanner(PlannerInterface):
         self.calls.append((kind, timeout))
         if self._delay:
             time.sleep(self._delay)
-        return self._outcome, (f"trajectory of {self._outcome.message}" if self._outcome.success else None)
+        has_trajectory = self._outcome.success or self._partial
+        return self._outcome, (f"trajectory of {self._outcome.message}" if has_trajectory else None)
 
     def plan(self, from_scene, to_scene, group, timeout, path_constraints=None):
         return self._answer("joint", timeout)
@@ -90,11 +92,15 @@ def test_budget_is_shared(ready_scene):
     assert 0.5 - 0.2 < second.calls[0][1] <= 0.5 - 0.05
 
 
-def test_timeout_when_the_budget_is_spent(ready_scene):
-    """A planner that overruns the budget leaves none for the next: "timeout"."""
-    first, second = RecordingPlanner(False, "slow", delay=0.06), RecordingPlanner(True, "ok")
+@pytest.mark.parametrize("partial", [False, True])
+def test_timeout_when_the_budget_is_spent(ready_scene, partial):
+    """A planner that overruns the budget leaves none for the next: "timeout", with the overrunning
+    planner's (partial) trajectory if it gave one, as MTC (which clears it only after that check)."""
+    first = RecordingPlanner(False, "slow", delay=0.06, partial=partial)
+    second = RecordingPlanner(True, "ok")
     result, traj = MultiPlanner(first, second).plan(ready_scene, ready_scene.diff(), "panda_arm", 0.03)
-    assert result == PlannerResult(False, "timeout") and traj is None
+    assert result == PlannerResult(False, "timeout")
+    assert traj == ("trajectory of slow" if partial else None)
     assert second.calls == []
 
 

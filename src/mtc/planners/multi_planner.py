@@ -76,8 +76,8 @@ class MultiPlanner(PlannerInterface):
         remaining = self._effective_timeout(timeout)
         result, traj = PlannerResult(False, "No planner specified"), None
         for planner in self._planners:
-            if remaining < 0:
-                return PlannerResult(False, "timeout"), None
+            if remaining < 0:  # (the last planner's trajectory stays, as in MTC)
+                return PlannerResult(False, "timeout"), traj
             begin = time.perf_counter()
             result, traj = attempt(planner, remaining)
             if result:
