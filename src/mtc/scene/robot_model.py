@@ -499,27 +499,27 @@ class RobotModel:
         if link not in self._link_has_geometry:
             raise DescriptionError(f"{context}: unknown link '{link}' (links: {', '.join(self._links)})")
 
+    def _joints_above(self, link: str):
+        """The joints on the way from ``link`` up to the root, nearest first."""
+        while (joint := self._parent_joint.get(link)) is not None:
+            yield joint
+            link = joint.parent
+
     def _chain_joints(self, base: str, tip: str, context: str) -> list[str]:
         self._require_link(base, context)
         self._require_link(tip, context)
+        if tip == base:
+            return []
         joints = []
-        link = tip
-        while link != base:
-            joint = self._parent_joint.get(link)
-            if joint is None:
-                raise DescriptionError(f"{context}: link '{base}' is not an ancestor of '{tip}'")
+        for joint in self._joints_above(tip):
             joints.append(joint.name)
-            link = joint.parent
-        return joints[::-1]
+            if joint.parent == base:
+                return joints[::-1]
+        raise DescriptionError(f"{context}: link '{base}' is not an ancestor of '{tip}'")
 
     def _is_above(self, upper: str, lower: str) -> bool:
         """Whether joint ``upper`` lies on the way from the root to joint ``lower``."""
-        link = self._joints[lower].parent
-        while (joint := self._parent_joint.get(link)) is not None:
-            if joint.name == upper:
-                return True
-            link = joint.parent
-        return False
+        return any(joint.name == upper for joint in self._joints_above(self._joints[lower].parent))
 
     def _subtree_links(self, link: str) -> list[str]:
         out, stack = [], [link]
@@ -780,16 +780,15 @@ class RobotModel:
         joint or the root, and ``link``'s fixed 4x4 pose relative to it."""
         self.frame_id(link)
         offset = np.eye(4)
-        current = link
-        while True:
-            joint = self._parent_joint.get(current)
-            if joint is None or joint.type != "fixed":
-                return current, offset
-            pm = self.pinocchio_model
-            child = pm.frames[self._frame_ids[current]].placement
-            parent = pm.frames[self._frame_ids[joint.parent]].placement
+        frames = self.pinocchio_model.frames
+        for joint in self._joints_above(link):
+            if joint.type != "fixed":
+                break
+            child = frames[self._frame_ids[joint.child]].placement
+            parent = frames[self._frame_ids[joint.parent]].placement
             offset = (parent.inverse() * child).homogeneous @ offset
-            current = joint.parent
+            link = joint.parent
+        return link, offset
 
     def links_moved_above(self, link: str) -> list[str]:
         """``link`` and its ancestors that a movable joint above them moves: every link on the
@@ -801,17 +800,12 @@ class RobotModel:
         """
         self.frame_id(link)
         moved: list[str] = []
-        pending: list[str] = []
-        current: str | None = link
-        while current is not None:
-            pending.append(current)
-            joint = self._parent_joint.get(current)
-            if joint is None:
-                break
+        pending = [link]  # links above which no movable joint has come yet
+        for joint in self._joints_above(link):
             if joint.type != "fixed":
                 moved += pending
                 pending = []
-            current = joint.parent
+            pending.append(joint.parent)
         return moved
 
     def enforce_mimic(self, q: np.ndarray) -> None:
