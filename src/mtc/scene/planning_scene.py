@@ -1185,23 +1185,25 @@ class PlanningScene:
         request.gjk_tolerance = GJK_TOLERANCE  # the fast checks' settings (see CONTACT_MARGIN)
         request.security_margin = CONTACT_MARGIN
         geoms = env.geom_model.geometryObjects
-
-        def placed(g: int) -> coal.Transform3s:
-            placement = shift * gd.oMg[g] if env.bodies[g] in moved and env.kinds[g] != "world" else gd.oMg[g]
-            return coal.Transform3s(placement.rotation, placement.translation)
-
+        # per geometry: carried to the pose / left out of the check (robot links by name)
+        carried = [kind != "world" and body in moved for body, kind in zip(env.bodies, env.kinds)]
+        left_out = [kind == "robot" and body in ignored for body, kind in zip(env.bodies, env.kinds)]
+        placements = [
+            coal.Transform3s(M.rotation, M.translation)
+            for M in ((shift * gd.oMg[g] if carried[g] else gd.oMg[g]) for g in range(len(geoms)))
+        ]
         found: list[tuple[str, str]] = []
         for i, j in env.pairs:
-            (a, ka), (b, kb) = (env.bodies[i], env.kinds[i]), (env.bodies[j], env.kinds[j])
-            if (ka == "robot" and a in ignored) or (kb == "robot" and b in ignored):
+            if left_out[i] or left_out[j]:
                 continue
-            if kb != "world" and b in moved and not (ka != "world" and a in moved):
-                i, j, a, b = j, i, b, a  # the moved body first
-            if (a, b) in found:
+            if carried[j] and not carried[i]:
+                i, j = j, i  # the moved body first
+            key = (env.bodies[i], env.bodies[j])
+            if key in found:
                 continue
             result = coal.CollisionResult()
-            if coal.collide(geoms[i].geometry, placed(i), geoms[j].geometry, placed(j), request, result):
-                found.append((a, b))
+            if coal.collide(geoms[i].geometry, placements[i], geoms[j].geometry, placements[j], request, result):
+                found.append(key)
         return found
 
     def collision_distances(
