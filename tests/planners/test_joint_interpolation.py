@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from mtc import msgs
+from mtc import core, msgs, stages
 from mtc.planners import JointInterpolationPlanner, PlannerResult
 
 
@@ -210,3 +210,49 @@ def test_cartesian_speed_limit_is_honoured(ready_scene):
     P = np.array([w.get_global_link_transform("panda_hand")[:3, 3] for w in traj])
     speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(traj.times)
     assert speed.max() <= 0.05 * 1.02
+
+
+def test_max_effort_on_first_and_last_waypoints(ready_scene):
+    """max_effort (as MTC, for gripper commands): every joint of the group gets it on the first
+    and last waypoints, whose message points then carry efforts instead of accelerations; the
+    waypoints between keep their accelerations and carry no efforts."""
+    planner = JointInterpolationPlanner()
+    goal = _goal_scene(ready_scene)
+    plain = planner.plan(ready_scene, goal, "panda_arm", 1.0)[1]
+    assert plain.efforts is None
+    assert all(p.effort == [] for p in plain.get_robot_trajectory_msg().joint_trajectory.points)
+    planner.properties["max_effort"] = 20  # an int for the float property
+    result, traj = planner.plan(ready_scene, goal, "panda_arm", 1.0)
+    assert result and len(traj) > 3
+    points = traj.get_robot_trajectory_msg().joint_trajectory.points
+    assert points[0].effort == [20.0] * 7 and points[-1].effort == [20.0] * 7
+    assert points[0].accelerations == [] and points[-1].accelerations == []
+    assert all(p.effort == [] and len(p.accelerations) == 7 for p in points[1:-1])
+    # the same path and timing as without max_effort
+    assert np.allclose(traj.positions, plain.positions) and np.allclose(traj.times, plain.times)
+
+
+def test_max_effort_reaches_the_solution_message(panda, ready_scene):
+    """A MoveTo of the hand with max_effort, planned in a task: the solution's sub-trajectory
+    message carries the effort on its first and last points, also when the stage runs
+    backward (the trajectory is reversed)."""
+    for backward in (False, True):
+        task = core.Task()
+        task.setRobotModel(panda)
+        planner = JointInterpolationPlanner()
+        planner.properties["max_effort"] = 15.0
+        close = stages.MoveTo("close hand", planner)
+        close.group = "hand"
+        close.setGoal("close")
+        fixed = stages.FixedState("open")
+        fixed.setState(ready_scene)
+        for stage in ((close, fixed) if backward else (fixed, close)):
+            task.add(stage)
+        assert task.plan(), backward
+        (sub,) = [s for s in task.solutions[0].toMsg().sub_trajectory if s.trajectory.joint_trajectory.points]
+        jt = sub.trajectory.joint_trajectory
+        assert jt.joint_names == ["panda_finger_joint1"]
+        # backward, the goal ("close") is where the motion starts
+        ends = [jt.points[0].positions[0], jt.points[-1].positions[0]]
+        assert ends == pytest.approx([0.0, 0.035] if backward else [0.035, 0.0])
+        assert jt.points[0].effort == [15.0] and jt.points[-1].effort == [15.0]

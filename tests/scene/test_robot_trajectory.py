@@ -207,3 +207,63 @@ def test_copy_and_clear(panda, start):
     assert traj[0].positions[0] == 0.0 and traj.velocities[0, 0] == 0.0 and len(traj) == 3
     traj.clear()
     assert len(traj) == 0 and traj.duration == 0.0 and len(other) == 4
+
+
+def test_waypoint_efforts_in_the_msg_instead_of_accelerations(panda, start):
+    """set_waypoint_efforts: one value for all of the group's variables or one per variable; the
+    waypoint's message point carries the efforts and, as MoveIt's (efforts and accelerations
+    share a state's storage there), no accelerations; other points are unchanged."""
+    traj = sweep(panda, start, n=3)
+    assert traj.efforts is None
+    traj.velocities = np.ones((3, 7))
+    traj.accelerations = np.full((3, 7), 2.0)
+    traj.set_waypoint_efforts(-1, 5)
+    traj.set_waypoint_efforts(0, np.arange(7.0))
+    efforts = traj.efforts
+    assert efforts.shape == (3, 7) and np.isnan(efforts[1]).all()
+    assert efforts[0].tolist() == list(range(7)) and efforts[2].tolist() == [5.0] * 7
+    points = traj.get_robot_trajectory_msg(joint_filter=["panda_joint3"]).joint_trajectory.points
+    assert [p.effort for p in points] == [[2.0], [], [5.0]]
+    assert [p.accelerations for p in points] == [[], [2.0], []]
+    assert all(p.velocities == [1.0] for p in points)
+    efforts[0, 0] = 99.0  # a copy
+    assert traj.efforts[0, 0] == 0.0
+
+
+def test_waypoint_efforts_bad_input_changes_nothing(panda, start):
+    traj = sweep(panda, start, n=2)
+    with pytest.raises(IndexError, match="waypoint index 2 out of range for 2 waypoints"):
+        traj.set_waypoint_efforts(2, 1.0)
+    with pytest.raises(ValueError, match=r"one value or 7 values \(the group's variables\), got shape \(2,\)"):
+        traj.set_waypoint_efforts(0, [1.0, 2.0])
+    with pytest.raises(ValueError, match="efforts must be finite"):
+        traj.set_waypoint_efforts(0, float("nan"))
+    assert traj.efforts is None
+
+
+def test_efforts_stay_with_their_waypoints(panda, start):
+    """Efforts belong to waypoints (as in MoveIt's states): reverse, copy, prefix, suffix and
+    append keep them on the same states; clear drops them."""
+    traj = sweep(panda, start, n=3)
+    traj.set_waypoint_efforts(0, 1.0)
+    traj.reverse()
+    assert np.isnan(traj.efforts[:2]).all() and traj.efforts[2].tolist() == [1.0] * 7
+    other = traj.copy()
+    other.set_waypoint_efforts(0, 3.0)
+    assert np.isnan(traj.efforts[0]).all()
+    traj.add_prefix_waypoint(start, 0.5)
+    traj.add_suffix_waypoint(start, 0.5)
+    assert len(traj.efforts) == 5 and traj.efforts[3].tolist() == [1.0] * 7
+    assert np.isnan(traj.efforts[[0, 1, 2, 4]]).all()
+    traj.append(other, 1.0, start_index=1)
+    assert len(traj.efforts) == 7 and traj.efforts[6].tolist() == [1.0] * 7 and np.isnan(traj.efforts[5]).all()
+    plain = sweep(panda, start, n=2)
+    plain.append(other)  # efforts of appended waypoints come along
+    assert plain.efforts[2].tolist() == [3.0] * 7 and np.isnan(plain.efforts[:2]).all()
+    hand = RobotTrajectory(panda, "hand")
+    hand.add_suffix_waypoint(start)
+    hand.set_waypoint_efforts(0, 4.0)
+    plain.append(hand)  # another group's efforts are for other variables: left out
+    assert np.isnan(plain.efforts[-1]).all()
+    traj.clear()
+    assert traj.efforts is None

@@ -38,9 +38,10 @@ class JointInterpolationPlanner(PlannerInterface):
 
     Properties:
         max_step: largest change of any joint between two waypoints [rad or m] (0.1).
-        max_effort: joint effort for the first and last waypoints (MTC writes it into the
-            trajectory for grippers); ``mtc`` trajectories carry no efforts, so it is kept
-            for API parity only.
+        max_effort: if set, the effort of every joint of the group on the first and last
+            waypoints (for gripper commands; the last, and the first in case the
+            trajectory is reversed). As in MoveIt, those waypoints' messages then carry
+            efforts instead of accelerations.
         (and those of :class:`PlannerInterface`)
     """
 
@@ -106,6 +107,10 @@ class JointInterpolationPlanner(PlannerInterface):
         if not line_free and not validity.motion_free(traj[-2].positions, goal.positions):
             return PlannerResult(False, "Waypoint is in collision!"), traj
         self._apply_timing(traj)
+        max_effort = self.properties.get("max_effort", None)
+        if max_effort is not None:
+            traj.set_waypoint_efforts(0, max_effort)
+            traj.set_waypoint_efforts(-1, max_effort)
         return PlannerResult(True, ""), traj
 
     def plan_to_pose(
