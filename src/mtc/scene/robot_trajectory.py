@@ -3,7 +3,7 @@
 Mirrors moveit_py's ``RobotTrajectory``. Velocities and accelerations are per waypoint for the
 group's active variables; they are filled in by time parameterization and may be ``None``.
 Efforts (set by ``JointInterpolationPlanner.max_effort`` on the first and last waypoints, for
-gripper commands) are per waypoint too, NaN where a waypoint has none.
+gripper commands) belong to single waypoints, as in MoveIt's states.
 """
 
 from __future__ import annotations
@@ -35,7 +35,7 @@ class RobotTrajectory:
         self._durations: list[float] = []  # time from the previous waypoint [s]
         self.velocities: np.ndarray | None = None  # N x k [rad/s, m/s]
         self.accelerations: np.ndarray | None = None  # N x k [rad/s^2, m/s^2]
-        self._efforts: np.ndarray | None = None  # N x k [N m, N], NaN rows: no efforts
+        self._efforts: list[np.ndarray | None] = []  # per waypoint: k efforts [N m, N] or None
 
     @classmethod
     def from_positions(
@@ -59,6 +59,7 @@ class RobotTrajectory:
             q[idx] = row
             traj.waypoints.append(reference._with_positions(q))
             traj._durations.append(float(t) - previous)
+            traj._efforts.append(None)
             previous = float(t)
         return traj
 
@@ -131,7 +132,10 @@ class RobotTrajectory:
     def efforts(self) -> np.ndarray | None:
         """N x k efforts of the group's active variables [N m, N]: a row of NaN where a waypoint
         has none; None when no waypoint has any."""
-        return None if self._efforts is None else self._efforts.copy()
+        if all(e is None for e in self._efforts):
+            return None
+        nan = np.full(self._group.variable_count, np.nan)
+        return np.array([nan if e is None else e for e in self._efforts])
 
     def set_waypoint_efforts(self, index: int, efforts) -> None:
         """Give waypoint ``index`` efforts: one value for every active variable of the group, or
@@ -140,27 +144,14 @@ class RobotTrajectory:
         n, k = len(self.waypoints), self._group.variable_count
         if not -n <= index < n:
             raise IndexError(f"waypoint index {index} out of range for {n} waypoints")
-        values = np.asarray(efforts, dtype=float)
+        values = np.array(efforts, dtype=float)  # (a copy: the caller keeps its array)
         if values.ndim == 0:
             values = np.full(k, float(values))
         if values.shape != (k,):
             raise ValueError(f"efforts must be one value or {k} values (the group's variables), got shape {values.shape}")
         if not np.all(np.isfinite(values)):
             raise ValueError("efforts must be finite")
-        if self._efforts is None:
-            self._efforts = np.full((n, k), np.nan)
         self._efforts[index] = values
-
-    def _grown_efforts(self, rows: int, added: np.ndarray | None = None, at_start: bool = False) -> np.ndarray | None:
-        """The effort table once ``rows`` waypoints were added at the end (or the start), with
-        the efforts ``added`` (default: none): waypoints keep their efforts, as MoveIt's
-        states do."""
-        if self._efforts is None and added is None:
-            return None
-        k = self._group.variable_count
-        old = self._efforts if self._efforts is not None else np.full((len(self.waypoints) - rows, k), np.nan)
-        new = added if added is not None else np.full((rows, k), np.nan)
-        return np.vstack([new, old] if at_start else [old, new])
 
     def add_suffix_waypoint(self, state: RobotState, dt: float = 0.0) -> None:
         """Append a waypoint ``dt`` seconds after the current last one (the state is copied)."""
@@ -169,7 +160,7 @@ class RobotTrajectory:
         self.waypoints.append(state.copy())
         self._durations.append(float(dt))
         self.velocities = self.accelerations = None
-        self._efforts = self._grown_efforts(1)
+        self._efforts.append(None)
 
     def add_prefix_waypoint(self, state: RobotState, dt: float = 0.0) -> None:
         """Insert a waypoint at the start; the old first waypoint follows it after ``dt``."""
@@ -178,7 +169,7 @@ class RobotTrajectory:
             self._durations[0] = float(dt)
         self._durations.insert(0, 0.0)
         self.velocities = self.accelerations = None
-        self._efforts = self._grown_efforts(1, at_start=True)
+        self._efforts.insert(0, None)
 
     def append(self, other: RobotTrajectory | RobotState, dt: float = 0.0, start_index: int = 0) -> RobotTrajectory:
         """Append another trajectory's waypoints (from ``start_index``; the first one's gap grows
@@ -194,13 +185,9 @@ class RobotTrajectory:
             self.waypoints.append(state.copy())
             self._durations.append(durations[k] + float(dt) if k == 0 else durations[k])
         self.velocities = self.accelerations = None
-        added = len(durations)
-        theirs = None
-        if other._efforts is not None and added:
-            # the same variables only (another group's trajectory brings no efforts)
-            if list(other.joint_names) == self.joint_names:
-                theirs = other._efforts[start_index:]
-        self._efforts = self._grown_efforts(added, theirs)
+        # efforts come along for the same variables only (another group's are for other joints)
+        same = other.joint_names == self.joint_names
+        self._efforts.extend(other._efforts[start_index:] if same else [None] * len(durations))
         return self
 
     def reverse(self) -> RobotTrajectory:
@@ -213,8 +200,7 @@ class RobotTrajectory:
             self.velocities = -self.velocities[::-1]
         if self.accelerations is not None:
             self.accelerations = self.accelerations[::-1].copy()
-        if self._efforts is not None:
-            self._efforts = self._efforts[::-1].copy()
+        self._efforts.reverse()
         return self
 
     def copy(self) -> RobotTrajectory:
@@ -223,14 +209,14 @@ class RobotTrajectory:
         other._durations = list(self._durations)
         other.velocities = None if self.velocities is None else self.velocities.copy()
         other.accelerations = None if self.accelerations is None else self.accelerations.copy()
-        other._efforts = None if self._efforts is None else self._efforts.copy()
+        other._efforts = list(self._efforts)  # (set_waypoint_efforts replaces, never edits, an entry)
         return other
 
     def clear(self) -> None:
         self.waypoints.clear()
         self._durations.clear()
         self.velocities = self.accelerations = None
-        self._efforts = None
+        self._efforts.clear()
 
     def get_robot_trajectory_msg(self, joint_filter=None) -> msgs.RobotTrajectory:
         """As a ``msgs.RobotTrajectory`` over the group's active joints. A waypoint with
@@ -243,9 +229,9 @@ class RobotTrajectory:
             point = msgs.JointTrajectoryPoint(positions=pos[i, cols].tolist(), time_from_start=float(t))
             if self.velocities is not None:
                 point.velocities = self.velocities[i, cols].tolist()
-            effort = None if self._efforts is None else self._efforts[i, cols]
-            if effort is not None and not np.isnan(effort).any():
-                point.effort = effort.tolist()
+            effort = self._efforts[i]
+            if effort is not None:
+                point.effort = effort[cols].tolist()
             elif self.accelerations is not None:
                 point.accelerations = self.accelerations[i, cols].tolist()
             points.append(point)
