@@ -9,7 +9,10 @@ Both planners get the same problems in the same run:
   matrix, and the fingers fixed at the start state's opening (clamped to the URDF's 0.04 m, as
   the baseline does);
 * the table-and-shelf world of ``bench/problems.py`` with seeded start/goal pairs that mtc's
-  collision checker accepts.
+  collision checker accepts;
+* with ``--generated N``: N problems each of MotionBenchMaker families the data subset does not
+  ship (``cage``: reaching between two bars into a box; ``bookshelf_thin``: reaching onto the
+  boards of a shelf), generated from MotionBenchMaker's scene configs with goals from mtc's IK.
 
 Problems whose start or goal lies outside example-robot-data's joint limits are reported
 (column "invalid"), not planned.
@@ -30,6 +33,7 @@ Run::
 
     python bench/motion_bench.py                      # full run (50 per family + 50 table-shelf)
     python bench/motion_bench.py --problems 5 --families box --no-baseline   # quick
+    python bench/motion_bench.py --families --table-shelf 0 --generated 30   # the generated families
 """
 
 from __future__ import annotations
@@ -52,8 +56,11 @@ import mtc  # noqa: E402
 from bench.problems import (  # noqa: E402
     ARM_JOINTS,
     FINGER_JOINTS,
+    GENERATED_FAMILIES,
     Obstacle,
+    READY_ARM,
     Problem,
+    generated_problems,
     limit_violations,
     load_family,
     panda_joint_limits,
@@ -127,6 +134,42 @@ def mtc_validity(model: mtc.RobotModel, obstacles: Sequence[Obstacle], finger: f
     # /work/notes/requests_scene.md, item 2): hold the scene here
     is_valid.scene = scene
     return is_valid
+
+
+#: IK attempts per hand pose of a generated problem's goal (a count, not a time: the problems
+#: do not depend on the machine's speed).
+GOAL_IK_ATTEMPTS = 20
+
+
+def mtc_goal_tools(model: mtc.RobotModel, finger: float = 0.04):
+    """``(is_valid(obstacles, q7), solve_ik(obstacles, hand_pose, rng))`` through mtc's collision
+    checker and IK, for :func:`bench.problems.generated_problems`."""
+    cache: dict = {}
+
+    def scene_of(obstacles):
+        if cache.get("key") is not obstacles:
+            cache.update(key=obstacles, scene=build_scene(model, obstacles, (), finger))
+        return cache["scene"]
+
+    def arm_state(scene, q7):
+        state = scene.current_state.copy()
+        state.set_joint_group_positions("panda_arm", q7)
+        return state
+
+    def is_valid(obstacles, q7) -> bool:
+        scene = scene_of(obstacles)
+        return not scene.is_state_colliding(arm_state(scene, q7), "panda_arm")
+
+    def solve_ik(obstacles, pose, rng):
+        scene = scene_of(obstacles)
+        state = arm_state(scene, READY_ARM)
+        found = state.set_from_ik(
+            "panda_arm", pose, tip="panda_hand", timeout=10.0, max_attempts=GOAL_IK_ATTEMPTS, rng=rng,
+            is_valid=lambda s: not scene.is_state_colliding(s, "panda_arm"),
+        )
+        return state.get_joint_group_positions("panda_arm") if found else None
+
+    return is_valid, solve_ik
 
 
 # ---------------------------------------------------------------------------------------------
@@ -244,7 +287,8 @@ def speedup(mtc_results: Sequence[dict], base_results: Sequence[dict]) -> float:
     return statistics.median(b for _, b in both) / statistics.median(m for m, _ in both)
 
 
-def suites(families: Sequence[str], problems: int | None, table_shelf: int, seed: int, model) -> list:
+def suites(families: Sequence[str], problems: int | None, table_shelf: int, seed: int, model,
+           generated: int = 0, generated_families: Sequence[str] = ()) -> list:
     out = []
     for fam in families:
         ps = load_family(fam)
@@ -252,6 +296,10 @@ def suites(families: Sequence[str], problems: int | None, table_shelf: int, seed
     if table_shelf:
         is_valid = mtc_validity(model, table_shelf_world())
         out.append(("table_shelf", table_shelf_problems(table_shelf, seed, is_valid=is_valid)))
+    if generated:
+        is_valid, solve_ik = mtc_goal_tools(model)
+        for fam in generated_families:
+            out.append((fam, generated_problems(fam, generated, seed, is_valid=is_valid, solve_ik=solve_ik)))
     return out
 
 
@@ -265,13 +313,17 @@ def run(
     seed: int = 0,
     verbose: bool = False,
     out=sys.stdout,
+    generated: int = 0,
+    generated_families: Sequence[str] = tuple(GENERATED_FAMILIES),
 ) -> list[dict]:
-    """Run the benchmark and print a markdown table; returns one row dict per family."""
+    """Run the benchmark and print a markdown table; returns one row dict per family.
+    ``generated`` problems per family of ``generated_families`` are added (see
+    :func:`bench.problems.generated_problems`)."""
     model = mtc.robots.panda()
     pipeline = OMPLPipeline()
     rows = []
     have_baseline = baseline and _baseline_available()
-    for family, ps in suites(families, problems, table_shelf, seed, model):
+    for family, ps in suites(families, problems, table_shelf, seed, model, generated, generated_families):
         m_res, b_res = [], []
         for p in ps:
             r = run_mtc(model, p, timeout, seed, pipeline)
@@ -372,6 +424,9 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument("--baseline-timeout", type=float, default=10.0, help="pyroboplan's time per problem [s]")
     parser.add_argument("--no-baseline", action="store_true", help="skip pyroboplan")
     parser.add_argument("--no-kinematics", action="store_true", help="skip the IK / time-parameterization numbers")
+    parser.add_argument("--generated", type=int, default=0,
+                        help="problems per generated MotionBenchMaker family (cage, bookshelf_thin; 0: none)")
+    parser.add_argument("--generated-families", nargs="*", default=list(GENERATED_FAMILIES), choices=list(GENERATED_FAMILIES))
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("-v", "--verbose", action="store_true", help="one line per problem")
     args = parser.parse_args(argv)
@@ -384,6 +439,8 @@ def main(argv: Sequence[str] | None = None) -> None:
         baseline_timeout=args.baseline_timeout,
         seed=args.seed,
         verbose=args.verbose,
+        generated=args.generated,
+        generated_families=args.generated_families,
     )
     if not args.no_kinematics:
         print_kinematics()

@@ -1,6 +1,6 @@
 """Benchmark problems for the Panda: MotionBenchMaker scenes and a table-and-shelf world.
 
-Two sources of problems, both as plain data (no planner, no collision checker here):
+Three sources of problems, all as plain data (no planner, no collision checker here):
 
 * The MotionBenchMaker subset in ``shared/data/motion_bench_maker`` (families ``table_pick``,
   ``box`` and ``bookshelf_small``, 50 problems each). Each problem is a MoveIt
@@ -8,6 +8,10 @@ Two sources of problems, both as plain data (no planner, no collision checker he
   ``MotionPlanRequest`` YAML (start joint state, one joint-space goal).
 * ``table_shelf_problems``: a hand-made world (floor, table, open shelf) around a Panda at the
   origin, with seeded start/goal pairs that a caller-supplied validity callable accepts.
+* ``generated_problems``: MotionBenchMaker families the subset does not ship (``cage``,
+  ``bookshelf_thin``), from MotionBenchMaker's scene configs, varied as it varies them, with
+  the start at ``ready`` and goals from a caller-supplied IK solver (the hand reaching for an
+  object inside the cage or on a shelf board).
 
 All poses are in the world frame, which is ``panda_link0`` (the Panda base sits at the origin).
 """
@@ -516,4 +520,158 @@ def table_shelf_problems(
         start = {j: float(v) for j, v in zip(ARM_JOINTS, qs)} | {f: finger for f in FINGER_JOINTS}
         goal = {j: float(v) for j, v in zip(ARM_JOINTS, qg)}
         problems.append(Problem("table_shelf", k, world, start, goal, "panda_arm", ()))
+    return problems
+
+
+# ---------------------------------------------------------------------------------------------
+# MotionBenchMaker families the data subset does not ship, generated
+
+
+#: MotionBenchMaker's start state for the Panda's arm (the ``ready`` pose) [rad].
+READY_ARM: tuple[float, ...] = (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785)
+
+
+def _cylinder(name: str, height: float, radius: float, center: tuple[float, float, float]) -> Obstacle:
+    T = np.eye(4)
+    T[:3, 3] = center
+    return Obstacle(name, "cylinder", (height, radius), T)
+
+
+def _cage_scene() -> list[Obstacle]:
+    # a box open at the front but for two bars, a cube inside
+    return [
+        _box("Cube1", (0.07, 0.07, 0.07), (0.8, 0.0, 0.52)),
+        _box("base", (0.7, 0.7, 0.04), (0.8, 0.0, 0.44)),
+        _box("side_left", (0.7, 0.04, 0.7), (0.8, -0.35, 0.8)),
+        _box("side_right", (0.7, 0.04, 0.7), (0.8, 0.35, 0.8)),
+        _box("side_frontB", (0.04, 0.7, 0.04), (0.45, 0.0, 0.9)),
+        _box("side_frontA", (0.04, 0.7, 0.04), (0.45, 0.0, 0.6)),
+        _box("side_cap", (0.65, 0.65, 0.04), (0.85, 0.0, 1.15)),
+        _box("side_back", (0.04, 0.7, 0.7), (1.15, 0.0, 0.8)),
+    ]
+
+
+def _bookshelf_thin_scene() -> list[Obstacle]:
+    # six boards 0.25 m apart, split by a vertical board, four legs, a can on every level
+    cans = [(1.1, 0.25, 0.44), (0.8, 0.25, 0.44), (1.1, -0.25, 0.69), (0.8, -0.25, 0.69), (1.1, 0.25, 0.94),
+            (0.8, 0.25, 0.94), (1.1, -0.25, 1.19), (0.8, -0.25, 1.19), (1.1, 0.25, 1.44), (0.8, 0.25, 1.44)]
+    out = [_cylinder(f"Can{k}", 0.14, 0.03, c) for k, c in enumerate(cans, start=1)]
+    for k, z in enumerate((0.35, 0.6, 0.85, 1.1, 1.35, 1.6)):
+        out.append(_box(f"shelf_{k}", (0.62, 1.0, 0.04), (1.0, 0.0, z)))
+    out.append(_box("shelf_vert", (0.62, 0.04, 1.4), (1.0, 0.0, 0.9)))
+    for name, x, y in (("leg_fr", 0.7, 0.5), ("leg_fl", 0.7, -0.5), ("leg_br", 1.3, 0.5), ("leg_bl", 1.3, -0.5)):
+        out.append(_box(name, (0.04, 0.04, 1.64), (x, y, 0.82)))
+    return out
+
+
+@dataclass(frozen=True)
+class _GeneratedFamily:
+    scene: Callable[[], list[Obstacle]]
+    base_offset: tuple[float, float, float]  # MotionBenchMaker's base_offset: the scene relative to the base
+    shift: tuple[float, float, float]  # uniform variation of the whole scene [m], +-
+    yaw: float  # uniform variation of the whole scene about z [rad], +-
+    targets: tuple[str, ...]  # objects the goal's hand reaches for
+    target_shift: tuple[float, float, float]  # uniform variation of each target [m], +-
+    approach: str  # "top": hand above the target pointing down; "side": hand level, pointing along x
+
+
+#: Scenes of MotionBenchMaker's configs (``configs/scenes/<family>``: nominal scene, the Panda's
+#: ``base_offset`` and the uniform variation) for families the data subset does not ship.
+GENERATED_FAMILIES: dict[str, _GeneratedFamily] = {
+    "cage": _GeneratedFamily(_cage_scene, (0.0, 0.0, -0.18), (0.1, 0.1, 0.1), 0.5, ("Cube1",), (0.0, 0.0, 0.0), "top"),
+    "bookshelf_thin": _GeneratedFamily(
+        _bookshelf_thin_scene, (-0.1, 0.0, -0.7), (0.1, 0.1, 0.0), 1.57,
+        tuple(f"Can{k}" for k in range(1, 11)), (0.0, 0.2, 0.0), "side",
+    ),
+}
+
+
+def _rot_z(a: float) -> np.ndarray:
+    c, s = np.cos(a), np.sin(a)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _hand_pose(fam: _GeneratedFamily, world: np.ndarray, target: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """A ``panda_hand`` pose reaching for the object at ``target`` (4x4, world frame)."""
+    P = np.eye(4)
+    R = world[:3, :3]
+    if fam.approach == "top":
+        tilt = rng.uniform(-0.4, 0.4)
+        c, s = np.cos(np.pi + tilt), np.sin(np.pi + tilt)
+        down = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])  # hand z down, tilted about y
+        P[:3, :3] = R @ _rot_z(rng.uniform(-np.pi, np.pi)) @ down
+        P[:3, 3] = target[:3, 3] + R @ np.array([rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(0.12, 0.2)])
+    else:
+        z = R @ _rot_z(rng.uniform(-0.3, 0.3))[:, 0]  # towards the shelf, +-0.3 rad
+        x = np.array([0.0, 0.0, 1.0 if rng.random() < 0.5 else -1.0])
+        P[:3, :3] = np.column_stack([x, np.cross(z, x), z])
+        P[:3, 3] = target[:3, 3] - z * rng.uniform(0.09, 0.12)
+    return P
+
+
+def generated_problems(
+    family: str,
+    n: int = 30,
+    seed: int = 0,
+    *,
+    is_valid: Callable[[Sequence[Obstacle], np.ndarray], bool],
+    solve_ik: Callable[[Sequence[Obstacle], np.ndarray, np.random.Generator], np.ndarray | None],
+    finger: float = 0.04,
+    max_tries: int = 50,
+) -> list[Problem]:
+    """``n`` problems of a MotionBenchMaker family the data subset lacks (see
+    :data:`GENERATED_FAMILIES`), reproducible for a seed: the scene varied as MotionBenchMaker
+    varies it, the start at :data:`READY_ARM`, the goal an IK solution for the hand reaching
+    for a target object.
+
+    Args:
+        family: a key of :data:`GENERATED_FAMILIES`.
+        n: number of problems.
+        seed: seed of the scene, target and hand-pose draws.
+        is_valid: ``is_valid(obstacles, q7)``: the arm at ``q7`` is free of collisions.
+        solve_ik: ``solve_ik(obstacles, hand_pose, rng)``: a collision-free ``q7`` placing
+            ``panda_hand`` at ``hand_pose`` (4x4, world frame), or None.
+        finger: opening of each finger joint [m].
+        max_tries: scenes drawn per problem (each with 20 hand poses) before giving up.
+
+    Raises:
+        ValueError: unknown family or negative ``n``.
+        RuntimeError: no problem found in ``max_tries`` scenes.
+    """
+    fam = GENERATED_FAMILIES.get(family)
+    if fam is None:
+        raise ValueError(f"unknown generated family {family!r} (known: {', '.join(GENERATED_FAMILIES)})")
+    if n < 0:
+        raise ValueError(f"n must be >= 0, got {n}")
+    rng = np.random.default_rng(seed)
+    ready = np.array(READY_ARM)
+    nominal = fam.scene()
+    problems = []
+    for k in range(1, n + 1):
+        for _ in range(max_tries):
+            world = np.eye(4)
+            world[:3, :3] = _rot_z(rng.uniform(-fam.yaw, fam.yaw))
+            world[:3, 3] = np.array(fam.base_offset) + rng.uniform(-1.0, 1.0, 3) * fam.shift
+            obstacles = []
+            for o in nominal:
+                pose = o.pose
+                if o.name in fam.targets:
+                    pose = pose.copy()
+                    pose[:3, 3] += rng.uniform(-1.0, 1.0, 3) * fam.target_shift
+                obstacles.append(Obstacle(o.name, o.kind, o.dims, world @ pose))
+            obstacles = tuple(obstacles)
+            target = obstacles[[o.name for o in obstacles].index(fam.targets[rng.integers(len(fam.targets))])]
+            if not is_valid(obstacles, ready):
+                continue
+            goal = None
+            for _ in range(20):
+                goal = solve_ik(obstacles, _hand_pose(fam, world, target.pose, rng), rng)
+                if goal is not None:
+                    break
+            if goal is not None:
+                break
+        else:
+            raise RuntimeError(f"{family}: no problem with a valid start and a reachable goal in {max_tries} scenes")
+        start = {j: float(v) for j, v in zip(ARM_JOINTS, ready)} | {f: finger for f in FINGER_JOINTS}
+        problems.append(Problem(family, k, obstacles, start, {j: float(v) for j, v in zip(ARM_JOINTS, goal)}))
     return problems

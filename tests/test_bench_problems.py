@@ -182,6 +182,64 @@ def test_sampling_gives_up_with_a_clear_error():
         P.sample_valid_state(lambda q: False, np.random.default_rng(0), max_tries=50)
 
 
+def _fake_ik(calls):
+    """An IK stand-in: records the hand poses it is asked for, answers with the ready pose."""
+
+    def solve_ik(obstacles, pose, rng):
+        calls.append(pose)
+        return np.array(P.READY_ARM)
+
+    return solve_ik
+
+
+@pytest.mark.parametrize("family", sorted(P.GENERATED_FAMILIES))
+def test_generated_problems_are_deterministic_and_varied(family):
+    """Same seed, same scenes and goals; scenes vary between problems; start at ready."""
+    calls = []
+    a = P.generated_problems(family, 3, seed=5, is_valid=lambda o, q: True, solve_ik=_fake_ik(calls))
+    b = P.generated_problems(family, 3, seed=5, is_valid=lambda o, q: True, solve_ik=_fake_ik([]))
+    c = P.generated_problems(family, 3, seed=6, is_valid=lambda o, q: True, solve_ik=_fake_ik([]))
+    poses = lambda ps: [[o.pose for o in p.obstacles] for p in ps]  # noqa: E731
+    np.testing.assert_array_equal(poses(a), poses(b))
+    assert not np.allclose(poses(a)[0], poses(c)[0]) and not np.allclose(poses(a)[0], poses(a)[1])
+    nominal = {o.name: o for o in P.GENERATED_FAMILIES[family].scene()}
+    for p in a:
+        assert p.family == family and p.start_arm().tolist() == list(P.READY_ARM)
+        assert [o.name for o in p.obstacles] == list(nominal) and all(o.dims == nominal[o.name].dims for o in p.obstacles)
+    assert len(calls) == 3  # one hand pose per problem (the stand-in always succeeds)
+    for pose in calls:
+        np.testing.assert_allclose(pose[:3, :3] @ pose[:3, :3].T, np.eye(3), atol=1e-12)
+
+
+def test_generated_hand_poses_reach_for_a_target():
+    """cage: the hand above the cube pointing down; bookshelf_thin: level, beside a can, pointing at it."""
+    for family, check in (("cage", "top"), ("bookshelf_thin", "side")):
+        calls = []
+        (p,) = P.generated_problems(family, 1, seed=0, is_valid=lambda o, q: True, solve_ik=_fake_ik(calls))
+        hand = calls[0]
+        targets = [o for o in p.obstacles if o.name in P.GENERATED_FAMILIES[family].targets]
+        gaps = [np.linalg.norm(hand[:3, 3] - o.pose[:3, 3]) for o in targets]
+        target = targets[int(np.argmin(gaps))]
+        to_target = target.pose[:3, 3] - hand[:3, 3]
+        if check == "top":
+            assert hand[2, 2] < -0.9 and 0.11 < -to_target[2] < 0.21  # z down, 12-20 cm above
+        else:
+            assert abs(hand[2, 2]) < 1e-12 and 0.09 <= min(gaps) <= 0.12
+            np.testing.assert_allclose(to_target / np.linalg.norm(to_target), hand[:3, 2], atol=1e-9)
+
+
+def test_generated_problems_use_the_callables_and_give_up_clearly():
+    """A start the validity callable rejects, or IK that never succeeds, ends in a RuntimeError."""
+    with pytest.raises(RuntimeError, match="cage: no problem with a valid start and a reachable goal in 4 scenes"):
+        P.generated_problems("cage", 1, is_valid=lambda o, q: False, solve_ik=_fake_ik([]), max_tries=4)
+    with pytest.raises(RuntimeError, match="in 2 scenes"):
+        P.generated_problems("cage", 1, is_valid=lambda o, q: True, solve_ik=lambda o, pose, rng: None, max_tries=2)
+    with pytest.raises(ValueError, match=r"unknown generated family 'kitchen' \(known: cage, bookshelf_thin\)"):
+        P.generated_problems("kitchen", 1, is_valid=lambda o, q: True, solve_ik=_fake_ik([]))
+    with pytest.raises(ValueError, match="n must be >= 0"):
+        P.generated_problems("cage", -1, is_valid=lambda o, q: True, solve_ik=_fake_ik([]))
+
+
 # --- pyroboplan baseline (bench-only extra) ------------------------------------------------
 
 

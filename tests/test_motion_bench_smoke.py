@@ -6,6 +6,7 @@ import io
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 # bench/ is not part of the installed package; import it from the repository root.
@@ -54,3 +55,35 @@ def test_scene_building_keeps_obstacles_acm_and_fingers():
     assert scene.current_state.joint_positions["panda_finger_joint1"] == pytest.approx(0.04)
     start, goal = motion_bench.problem_states(scene, problem)
     assert not scene.is_state_colliding(start, "panda_arm") and not scene.is_state_colliding(goal, "panda_arm")
+
+
+def test_generated_families_are_planned_collision_free():
+    """One cage and one bookshelf_thin problem: goals by mtc's IK are valid, mtc solves both
+    and its paths are free when re-checked at 1 mrad."""
+    out = io.StringIO()
+    rows = motion_bench.run(families=[], table_shelf=0, generated=1, baseline=False, out=out)
+    assert [r["family"] for r in rows] == ["cage", "bookshelf_thin"]
+    for row in rows:
+        s = row["mtc"]
+        assert s["n"] == 1 and s["solved"] == 1 and s["dense_free"] == 1
+    assert "| cage | mtc | 1 | 0 | 1 | 100% |" in out.getvalue()
+
+
+def test_generated_goals_are_collision_free_ik_solutions():
+    """mtc_goal_tools: the goal places panda_hand at the requested pose, free of collisions."""
+    model = motion_bench.mtc.robots.panda()
+    is_valid, solve_ik = motion_bench.mtc_goal_tools(model)
+    poses = []
+
+    def recording_ik(obstacles, pose, rng):
+        poses.append(pose)
+        return solve_ik(obstacles, pose, rng)
+
+    (p,) = motion_bench.generated_problems("cage", 1, seed=0, is_valid=is_valid, solve_ik=recording_ik)
+    scene = motion_bench.build_scene(model, p.obstacles)
+    start, goal = motion_bench.problem_states(scene, p)
+    assert not scene.is_state_colliding(start, "panda_arm") and not scene.is_state_colliding(goal, "panda_arm")
+    hand = goal.get_global_link_transform("panda_hand")
+    np.testing.assert_allclose(hand, poses[-1], atol=1e-4)
+    reach_in = np.array([0.0, 1.2, 0.0, -0.5, 0.0, 1.5, 0.8])  # the arm stretched forward through the cage
+    assert is_valid(p.obstacles, p.goal_arm()) and is_valid((), reach_in) and not is_valid(p.obstacles, reach_in)
