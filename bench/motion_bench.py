@@ -120,7 +120,7 @@ def problem_states(scene, problem: Problem):
 
 
 def mtc_validity(model: mtc.RobotModel, obstacles: Sequence[Obstacle], finger: float = 0.04):
-    """``is_valid(q7)`` through mtc's collision checker (for sampling table-shelf problems)."""
+    """``is_valid(q7)`` through mtc's collision checker (for sampling benchmark problems)."""
     scene = build_scene(model, obstacles, (), finger)
     check = scene.state_validity_checker("panda_arm")
     q = scene.current_state.positions.copy()
@@ -143,29 +143,25 @@ GOAL_IK_ATTEMPTS = 20
 
 def mtc_goal_tools(model: mtc.RobotModel, finger: float = 0.04):
     """``(is_valid(obstacles, q7), solve_ik(obstacles, hand_pose, rng))`` through mtc's collision
-    checker and IK, for :func:`bench.problems.generated_problems`."""
+    checker (:func:`mtc_validity`, made once per world) and IK, for
+    :func:`bench.problems.generated_problems`."""
     cache: dict = {}
 
-    def scene_of(obstacles):
+    def check_of(obstacles):
         if cache.get("key") is not obstacles:
-            cache.update(key=obstacles, scene=build_scene(model, obstacles, (), finger))
-        return cache["scene"]
-
-    def arm_state(scene, q7):
-        state = scene.current_state.copy()
-        state.set_joint_group_positions("panda_arm", q7)
-        return state
+            cache.update(key=obstacles, check=mtc_validity(model, obstacles, finger))
+        return cache["check"]
 
     def is_valid(obstacles, q7) -> bool:
-        scene = scene_of(obstacles)
-        return not scene.is_state_colliding(arm_state(scene, q7), "panda_arm")
+        return check_of(obstacles)(q7)
 
     def solve_ik(obstacles, pose, rng):
-        scene = scene_of(obstacles)
-        state = arm_state(scene, READY_ARM)
+        check = check_of(obstacles)
+        state = check.scene.current_state.copy()
+        state.set_joint_group_positions("panda_arm", READY_ARM)
         found = state.set_from_ik(
             "panda_arm", pose, tip="panda_hand", timeout=10.0, max_attempts=GOAL_IK_ATTEMPTS, rng=rng,
-            is_valid=lambda s: not scene.is_state_colliding(s, "panda_arm"),
+            is_valid=lambda s: check(s.get_joint_group_positions("panda_arm")),
         )
         return state.get_joint_group_positions("panda_arm") if found else None
 

@@ -400,10 +400,15 @@ def load_all(root: str | os.PathLike | None = None) -> dict[str, list[Problem]]:
 # Table-and-shelf world
 
 
-def _box(name: str, size: tuple[float, float, float], center: tuple[float, float, float]) -> Obstacle:
+def _at(name: str, kind: str, dims: tuple[float, ...], center: tuple[float, float, float]) -> Obstacle:
+    """An axis-aligned primitive centred at ``center``."""
     T = np.eye(4)
     T[:3, 3] = center
-    return Obstacle(name, "box", size, T)
+    return Obstacle(name, kind, dims, T)
+
+
+def _box(name: str, size: tuple[float, float, float], center: tuple[float, float, float]) -> Obstacle:
+    return _at(name, "box", size, center)
 
 
 def table_shelf_world() -> list[Obstacle]:
@@ -531,12 +536,6 @@ def table_shelf_problems(
 READY_ARM: tuple[float, ...] = (0.0, -0.785, 0.0, -2.356, 0.0, 1.571, 0.785)
 
 
-def _cylinder(name: str, height: float, radius: float, center: tuple[float, float, float]) -> Obstacle:
-    T = np.eye(4)
-    T[:3, 3] = center
-    return Obstacle(name, "cylinder", (height, radius), T)
-
-
 def _cage_scene() -> list[Obstacle]:
     # a box open at the front but for two bars, a cube inside
     return [
@@ -555,7 +554,7 @@ def _bookshelf_thin_scene() -> list[Obstacle]:
     # six boards 0.25 m apart, split by a vertical board, four legs, a can on every level
     cans = [(1.1, 0.25, 0.44), (0.8, 0.25, 0.44), (1.1, -0.25, 0.69), (0.8, -0.25, 0.69), (1.1, 0.25, 0.94),
             (0.8, 0.25, 0.94), (1.1, -0.25, 1.19), (0.8, -0.25, 1.19), (1.1, 0.25, 1.44), (0.8, 0.25, 1.44)]
-    out = [_cylinder(f"Can{k}", 0.14, 0.03, c) for k, c in enumerate(cans, start=1)]
+    out = [_at(f"Can{k}", "cylinder", (0.14, 0.03), c) for k, c in enumerate(cans, start=1)]
     for k, z in enumerate((0.35, 0.6, 0.85, 1.1, 1.35, 1.6)):
         out.append(_box(f"shelf_{k}", (0.62, 1.0, 0.04), (1.0, 0.0, z)))
     out.append(_box("shelf_vert", (0.62, 0.04, 1.4), (1.0, 0.0, 0.9)))
@@ -646,6 +645,7 @@ def generated_problems(
     rng = np.random.default_rng(seed)
     ready = np.array(READY_ARM)
     nominal = fam.scene()
+    names = [o.name for o in nominal]
     problems = []
     for k in range(1, n + 1):
         for _ in range(max_tries):
@@ -660,7 +660,7 @@ def generated_problems(
                     pose[:3, 3] += rng.uniform(-1.0, 1.0, 3) * fam.target_shift
                 obstacles.append(Obstacle(o.name, o.kind, o.dims, world @ pose))
             obstacles = tuple(obstacles)
-            target = obstacles[[o.name for o in obstacles].index(fam.targets[rng.integers(len(fam.targets))])]
+            target = obstacles[names.index(fam.targets[rng.integers(len(fam.targets))])]
             if not is_valid(obstacles, ready):
                 continue
             goal = None
