@@ -11,8 +11,10 @@ Both planners get the same problems in the same run:
 * the table-and-shelf world of ``bench/problems.py`` with seeded start/goal pairs that mtc's
   collision checker accepts;
 * with ``--generated N``: N problems each of MotionBenchMaker families the data subset does not
-  ship (``cage``: reaching between two bars into a box; ``bookshelf_thin``: reaching onto the
-  boards of a shelf), generated from MotionBenchMaker's scene configs with goals from mtc's IK.
+  ship (``cage``: reaching between two bars into a box; ``bookshelf_thin``, ``bookshelf_tall``:
+  reaching into a shelf beside the cans on its boards; ``table_under_pick``: from under a table
+  to the can on it), generated from MotionBenchMaker's scene configs with goals (and the
+  under-the-table start) from mtc's IK.
 
 Problems whose start or goal lies outside example-robot-data's joint limits are reported
 (column "invalid"), not planned.
@@ -421,7 +423,7 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument("--no-baseline", action="store_true", help="skip pyroboplan")
     parser.add_argument("--no-kinematics", action="store_true", help="skip the IK / time-parameterization numbers")
     parser.add_argument("--generated", type=int, default=0,
-                        help="problems per generated MotionBenchMaker family (cage, bookshelf_thin; 0: none)")
+                        help="problems per generated MotionBenchMaker family (see --generated-families; 0: none)")
     parser.add_argument("--generated-families", nargs="*", default=list(GENERATED_FAMILIES), choices=list(GENERATED_FAMILIES))
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("-v", "--verbose", action="store_true", help="one line per problem")

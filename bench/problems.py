@@ -9,9 +9,10 @@ Three sources of problems, all as plain data (no planner, no collision checker h
 * ``table_shelf_problems``: a hand-made world (floor, table, open shelf) around a Panda at the
   origin, with seeded start/goal pairs that a caller-supplied validity callable accepts.
 * ``generated_problems``: MotionBenchMaker families the subset does not ship (``cage``,
-  ``bookshelf_thin``), from MotionBenchMaker's scene configs, varied as it varies them, with
-  the start at ``ready`` and goals from a caller-supplied IK solver (the hand reaching for an
-  object inside the cage or on a shelf board).
+  ``bookshelf_thin``, ``bookshelf_tall``, ``table_under_pick``), from MotionBenchMaker's scene
+  configs, varied as it varies them, with the start at ``ready`` (``table_under_pick``: the
+  hand under the table) and goals from a caller-supplied IK solver (the hand reaching for an
+  object inside the cage, on a shelf board or on the table).
 
 All poses are in the world frame, which is ``panda_link0`` (the Panda base sits at the origin).
 """
@@ -563,6 +564,42 @@ def _bookshelf_thin_scene() -> list[Obstacle]:
     return out
 
 
+def _bookshelf_tall_scene() -> list[Obstacle]:
+    # four boards 0.3 m apart between two side walls, three cans on each of the lower three
+    cans = [(x, 0.0, z) for z in (1.38, 0.78, 1.08) for x in (0.9, 0.7, 0.5)]
+    out = [_at(f"Can{k}", "cylinder", (0.14, 0.03), c) for k, c in enumerate(cans, start=1)]
+    for name, z in (("shelf_bottom", 0.7), ("shelf_middle_bottom", 1.0), ("shelf_middle_top", 1.3), ("shelf_top", 1.6)):
+        out.append(_box(name, (1.2, 1.0, 0.04), (1.0, 0.0, z)))
+    out.append(_box("side_left", (1.3, 0.04, 1.64), (1.0, -0.5, 0.82)))
+    out.append(_box("side_right", (1.3, 0.04, 1.64), (1.0, 0.5, 0.82)))
+    return out
+
+
+def _table_scene() -> list[Obstacle]:
+    # a table on four legs with a can, a cube and five upright objects on it
+    out = [
+        _at("Can1", "cylinder", (0.12, 0.03), (0.85, 0.0, 0.8)),
+        _box("Cube", (0.25, 0.25, 0.25), (0.75, 0.4, 0.85)),
+    ]
+    for name, x, y in (("left_back", 1.5, 0.85), ("left_front", 0.6, 0.85), ("right_back", 1.5, -0.85),
+                       ("right_front", 0.6, -0.85)):
+        out.append(_box(f"table_leg_{name}", (0.05, 0.05, 0.7), (x, y, 0.35)))
+    out.append(_box("table_top", (1.2, 2.0, 0.04), (1.05, 0.0, 0.7)))
+    out.append(_at("Object1", "cylinder", (0.35, 0.05), (1.35, 0.0, 0.85)))
+    out.append(_box("Object2", (0.2, 0.02, 0.4), (1.05, -0.2, 0.9)))
+    out.append(_box("Object3", (0.02, 0.2, 0.4), (0.65, 0.2, 0.9)))
+    out.append(_box("Object4", (0.2, 0.05, 0.35), (0.65, -0.2, 0.9)))
+    out.append(_box("Object5", (0.2, 0.05, 0.35), (1.05, 0.2, 0.9)))
+    return out
+
+
+@dataclass(frozen=True)
+class _Variation:
+    names: tuple[str, ...]  # objects varied, each on its own draw
+    shift: tuple[float, float, float]  # uniform shift [m], +-
+    yaw: float = 0.0  # uniform turn about the object's own z [rad], +-
+
+
 @dataclass(frozen=True)
 class _GeneratedFamily:
     scene: Callable[[], list[Obstacle]]
@@ -570,17 +607,39 @@ class _GeneratedFamily:
     shift: tuple[float, float, float]  # uniform variation of the whole scene [m], +-
     yaw: float  # uniform variation of the whole scene about z [rad], +-
     targets: tuple[str, ...]  # objects the goal's hand reaches for
-    target_shift: tuple[float, float, float]  # uniform variation of each target [m], +-
     approach: str  # "top": hand above the target pointing down; "side": hand level, pointing along x
+    variations: tuple[_Variation, ...] = ()  # of single objects, after the whole scene's
+    # None: the start is READY_ARM; else (object, point in its frame): the start's hand is level
+    # at that point, pointing along the object's x axis
+    start: tuple[str, tuple[float, float, float]] | None = None
 
+
+_CANS_THIN = tuple(f"Can{k}" for k in range(1, 11))
+_CANS_TALL = tuple(f"Can{k}" for k in range(1, 10))
 
 #: Scenes of MotionBenchMaker's configs (``configs/scenes/<family>``: nominal scene, the Panda's
-#: ``base_offset`` and the uniform variation) for families the data subset does not ship.
+#: ``base_offset``, the uniform variation and the queries' objects) for families the data
+#: subset does not ship.
 GENERATED_FAMILIES: dict[str, _GeneratedFamily] = {
-    "cage": _GeneratedFamily(_cage_scene, (0.0, 0.0, -0.18), (0.1, 0.1, 0.1), 0.5, ("Cube1",), (0.0, 0.0, 0.0), "top"),
+    # (the cube's zero shift is a draw all the same: it keeps the problems measured before)
+    "cage": _GeneratedFamily(
+        _cage_scene, (0.0, 0.0, -0.18), (0.1, 0.1, 0.1), 0.5, ("Cube1",), "top",
+        (_Variation(("Cube1",), (0.0, 0.0, 0.0)),),
+    ),
     "bookshelf_thin": _GeneratedFamily(
-        _bookshelf_thin_scene, (-0.1, 0.0, -0.7), (0.1, 0.1, 0.0), 1.57,
-        tuple(f"Can{k}" for k in range(1, 11)), (0.0, 0.2, 0.0), "side",
+        _bookshelf_thin_scene, (-0.1, 0.0, -0.7), (0.1, 0.1, 0.0), 1.57, _CANS_THIN, "side",
+        (_Variation(_CANS_THIN, (0.0, 0.2, 0.0)),),
+    ),
+    "bookshelf_tall": _GeneratedFamily(
+        _bookshelf_tall_scene, (0.3, 0.0, -0.7), (0.1, 0.1, 0.0), 1.57, _CANS_TALL, "side",
+        (_Variation(_CANS_TALL, (0.0, 0.45, 0.0)),),
+    ),
+    # the start reaches under the table, the goal for the can on it
+    "table_under_pick": _GeneratedFamily(
+        _table_scene, (0.1, 0.1, -0.5), (0.1, 0.1, 0.1), 1.57, ("Can1",), "side",
+        (_Variation(("Can1",), (0.05, 0.05, 0.0)),
+         _Variation(("Object1", "Object2", "Object3", "Object4", "Object5", "Cube"), (0.1, 0.1, 0.0), 1.57)),
+        start=("table_top", (-0.5, 0.0, -0.3)),
     ),
 }
 
@@ -588,6 +647,14 @@ GENERATED_FAMILIES: dict[str, _GeneratedFamily] = {
 def _rot_z(a: float) -> np.ndarray:
     c, s = np.cos(a), np.sin(a)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def _level_hand(R: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Orientation of a level hand pointing along ``R``'s x axis turned by up to +-0.3 rad
+    about z, either side up."""
+    z = R @ _rot_z(rng.uniform(-0.3, 0.3))[:, 0]
+    x = np.array([0.0, 0.0, 1.0 if rng.random() < 0.5 else -1.0])
+    return np.column_stack([x, np.cross(z, x), z])
 
 
 def _hand_pose(fam: _GeneratedFamily, world: np.ndarray, target: np.ndarray, rng: np.random.Generator) -> np.ndarray:
@@ -601,11 +668,26 @@ def _hand_pose(fam: _GeneratedFamily, world: np.ndarray, target: np.ndarray, rng
         P[:3, :3] = R @ _rot_z(rng.uniform(-np.pi, np.pi)) @ down
         P[:3, 3] = target[:3, 3] + R @ np.array([rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(0.12, 0.2)])
     else:
-        z = R @ _rot_z(rng.uniform(-0.3, 0.3))[:, 0]  # towards the shelf, +-0.3 rad
-        x = np.array([0.0, 0.0, 1.0 if rng.random() < 0.5 else -1.0])
-        P[:3, :3] = np.column_stack([x, np.cross(z, x), z])
-        P[:3, 3] = target[:3, 3] - z * rng.uniform(0.09, 0.12)
+        P[:3, :3] = _level_hand(R, rng)  # towards the shelf or table
+        P[:3, 3] = target[:3, 3] - P[:3, 2] * rng.uniform(0.09, 0.12)
     return P
+
+
+def _start_pose(anchor: np.ndarray, point: tuple[float, float, float], rng: np.random.Generator) -> np.ndarray:
+    """A level ``panda_hand`` pose at ``point`` of the object at ``anchor``, pointing along its x."""
+    P = np.eye(4)
+    P[:3, :3] = _level_hand(anchor[:3, :3], rng)
+    P[:3, 3] = anchor[:3, :3] @ np.array(point) + anchor[:3, 3]
+    return P
+
+
+def _first_ik(solve_ik, obstacles, poses: Callable[[], np.ndarray], rng: np.random.Generator) -> np.ndarray | None:
+    """The first IK solution of up to 20 hand poses drawn by ``poses``."""
+    for _ in range(20):
+        q = solve_ik(obstacles, poses(), rng)
+        if q is not None:
+            return q
+    return None
 
 
 def generated_problems(
@@ -620,8 +702,9 @@ def generated_problems(
 ) -> list[Problem]:
     """``n`` problems of a MotionBenchMaker family the data subset lacks (see
     :data:`GENERATED_FAMILIES`), reproducible for a seed: the scene varied as MotionBenchMaker
-    varies it, the start at :data:`READY_ARM`, the goal an IK solution for the hand reaching
-    for a target object.
+    varies it; the start at :data:`READY_ARM` or, where the family says so, an IK solution for a
+    level hand at a point of an object (under the table); the goal an IK solution for the hand
+    reaching for a target object.
 
     Args:
         family: a key of :data:`GENERATED_FAMILIES`.
@@ -631,7 +714,8 @@ def generated_problems(
         solve_ik: ``solve_ik(obstacles, hand_pose, rng)``: a collision-free ``q7`` placing
             ``panda_hand`` at ``hand_pose`` (4x4, world frame), or None.
         finger: opening of each finger joint [m].
-        max_tries: scenes drawn per problem (each with 20 hand poses) before giving up.
+        max_tries: scenes drawn per problem (each with up to 20 hand poses for the goal, and
+            as many for an IK start) before giving up.
 
     Raises:
         ValueError: unknown family or negative ``n``.
@@ -655,23 +739,27 @@ def generated_problems(
             obstacles = []
             for o in nominal:
                 pose = o.pose
-                if o.name in fam.targets:
-                    pose = pose.copy()
-                    pose[:3, 3] += rng.uniform(-1.0, 1.0, 3) * fam.target_shift
+                for v in fam.variations:
+                    if o.name in v.names:
+                        pose = pose.copy()
+                        pose[:3, 3] += rng.uniform(-1.0, 1.0, 3) * v.shift
+                        if v.yaw:
+                            pose[:3, :3] = pose[:3, :3] @ _rot_z(rng.uniform(-v.yaw, v.yaw))
                 obstacles.append(Obstacle(o.name, o.kind, o.dims, world @ pose))
             obstacles = tuple(obstacles)
             target = obstacles[names.index(fam.targets[rng.integers(len(fam.targets))])]
-            if not is_valid(obstacles, ready):
+            if fam.start is None:
+                start = ready if is_valid(obstacles, ready) else None
+            else:
+                anchor = obstacles[names.index(fam.start[0])].pose
+                start = _first_ik(solve_ik, obstacles, lambda: _start_pose(anchor, fam.start[1], rng), rng)
+            if start is None:
                 continue
-            goal = None
-            for _ in range(20):
-                goal = solve_ik(obstacles, _hand_pose(fam, world, target.pose, rng), rng)
-                if goal is not None:
-                    break
+            goal = _first_ik(solve_ik, obstacles, lambda: _hand_pose(fam, world, target.pose, rng), rng)
             if goal is not None:
                 break
         else:
             raise RuntimeError(f"{family}: no problem with a valid start and a reachable goal in {max_tries} scenes")
-        start = {j: float(v) for j, v in zip(ARM_JOINTS, ready)} | {f: finger for f in FINGER_JOINTS}
+        start = {j: float(v) for j, v in zip(ARM_JOINTS, start)} | {f: finger for f in FINGER_JOINTS}
         problems.append(Problem(family, k, obstacles, start, {j: float(v) for j, v in zip(ARM_JOINTS, goal)}))
     return problems

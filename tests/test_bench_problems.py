@@ -206,17 +206,19 @@ def test_generated_problems_are_deterministic_and_varied(family):
     for p in a:
         assert p.family == family and p.start_arm().tolist() == list(P.READY_ARM)
         assert [o.name for o in p.obstacles] == list(nominal) and all(o.dims == nominal[o.name].dims for o in p.obstacles)
-    assert len(calls) == 3  # one hand pose per problem (the stand-in always succeeds)
+    # one hand pose per goal and per IK start (the stand-in always succeeds)
+    assert len(calls) == 3 * (1 if P.GENERATED_FAMILIES[family].start is None else 2)
     for pose in calls:
         np.testing.assert_allclose(pose[:3, :3] @ pose[:3, :3].T, np.eye(3), atol=1e-12)
 
 
 def test_generated_hand_poses_reach_for_a_target():
-    """cage: the hand above the cube pointing down; bookshelf_thin: level, beside a can, pointing at it."""
-    for family, check in (("cage", "top"), ("bookshelf_thin", "side")):
+    """cage: the hand above the cube pointing down; the others: level, beside a can, pointing at it."""
+    for family, check in (("cage", "top"), ("bookshelf_thin", "side"), ("bookshelf_tall", "side"),
+                          ("table_under_pick", "side")):
         calls = []
         (p,) = P.generated_problems(family, 1, seed=0, is_valid=lambda o, q: True, solve_ik=_fake_ik(calls))
-        hand = calls[0]
+        hand = calls[-1]  # the goal's (an IK start's comes first)
         targets = [o for o in p.obstacles if o.name in P.GENERATED_FAMILIES[family].targets]
         gaps = [np.linalg.norm(hand[:3, 3] - o.pose[:3, 3]) for o in targets]
         target = targets[int(np.argmin(gaps))]
@@ -228,13 +230,27 @@ def test_generated_hand_poses_reach_for_a_target():
             np.testing.assert_allclose(to_target / np.linalg.norm(to_target), hand[:3, 2], atol=1e-9)
 
 
+def test_table_under_pick_starts_with_the_hand_under_the_table():
+    """The start's hand pose: level, 0.3 m under the table top's centre plane and 0.5 m from its
+    centre towards the robot, pointing away from the robot along the table's x axis."""
+    for seed in range(3):
+        calls = []
+        (p,) = P.generated_problems("table_under_pick", 1, seed=seed, is_valid=lambda o, q: True,
+                                    solve_ik=_fake_ik(calls))
+        start_hand = calls[0]
+        table = next(o for o in p.obstacles if o.name == "table_top").pose
+        local = np.linalg.inv(table) @ start_hand
+        np.testing.assert_allclose(local[:3, 3], (-0.5, 0.0, -0.3), atol=1e-12)
+        assert abs(start_hand[2, 2]) < 1e-12 and local[0, 2] > np.cos(0.3) - 1e-12
+
+
 def test_generated_problems_use_the_callables_and_give_up_clearly():
     """A start the validity callable rejects, or IK that never succeeds, ends in a RuntimeError."""
     with pytest.raises(RuntimeError, match="cage: no problem with a valid start and a reachable goal in 4 scenes"):
         P.generated_problems("cage", 1, is_valid=lambda o, q: False, solve_ik=_fake_ik([]), max_tries=4)
     with pytest.raises(RuntimeError, match="in 2 scenes"):
         P.generated_problems("cage", 1, is_valid=lambda o, q: True, solve_ik=lambda o, pose, rng: None, max_tries=2)
-    with pytest.raises(ValueError, match=r"unknown generated family 'kitchen' \(known: cage, bookshelf_thin\)"):
+    with pytest.raises(ValueError, match=r"unknown generated family 'kitchen' \(known: cage, bookshelf_thin, bookshelf_tall, table_under_pick\)"):
         P.generated_problems("kitchen", 1, is_valid=lambda o, q: True, solve_ik=_fake_ik([]))
     with pytest.raises(ValueError, match="n must be >= 0"):
         P.generated_problems("cage", -1, is_valid=lambda o, q: True, solve_ik=_fake_ik([]))

@@ -58,11 +58,11 @@ def test_scene_building_keeps_obstacles_acm_and_fingers():
 
 
 def test_generated_families_are_planned_collision_free():
-    """One cage and one bookshelf_thin problem: goals by mtc's IK are valid, mtc solves both
-    and its paths are free when re-checked at 1 mrad."""
+    """One problem of each generated family: starts and goals by mtc's IK are valid, mtc solves
+    them and its paths are free when re-checked at 1 mrad."""
     out = io.StringIO()
     rows = motion_bench.run(families=[], table_shelf=0, generated=1, baseline=False, out=out)
-    assert [r["family"] for r in rows] == ["cage", "bookshelf_thin"]
+    assert [r["family"] for r in rows] == ["cage", "bookshelf_thin", "bookshelf_tall", "table_under_pick"]
     for row in rows:
         s = row["mtc"]
         assert s["n"] == 1 and s["solved"] == 1 and s["dense_free"] == 1
@@ -87,3 +87,25 @@ def test_generated_goals_are_collision_free_ik_solutions():
     np.testing.assert_allclose(hand, poses[-1], atol=1e-4)
     reach_in = np.array([0.0, 1.2, 0.0, -0.5, 0.0, 1.5, 0.8])  # the arm stretched forward through the cage
     assert is_valid(p.obstacles, p.goal_arm()) and is_valid((), reach_in) and not is_valid(p.obstacles, reach_in)
+
+
+def test_generated_ik_start_is_a_collision_free_ik_solution():
+    """table_under_pick: the start is the IK answer for a hand pose under the table, free of
+    collisions."""
+    model = motion_bench.mtc.robots.panda()
+    is_valid, solve_ik = motion_bench.mtc_goal_tools(model)
+    answers = []
+
+    def recording_ik(obstacles, pose, rng):
+        q = solve_ik(obstacles, pose, rng)
+        answers.append((pose, q))
+        return q
+
+    (p,) = motion_bench.generated_problems("table_under_pick", 1, seed=0, is_valid=is_valid, solve_ik=recording_ik)
+    scene = motion_bench.build_scene(model, p.obstacles)
+    start, _ = motion_bench.problem_states(scene, p)
+    assert not scene.is_state_colliding(start, "panda_arm")
+    (pose,) = [pose for pose, q in answers if q is not None and np.array_equal(q, p.start_arm())]
+    np.testing.assert_allclose(start.get_global_link_transform("panda_hand"), pose, atol=1e-4)
+    table = next(o for o in p.obstacles if o.name == "table_top").pose
+    assert start.get_global_link_transform("panda_hand")[2, 3] < table[2, 3] - 0.25  # under the table
