@@ -116,6 +116,42 @@ def test_plans_around_an_obstacle_collision_free_at_fine_resolution(blocked, pip
     assert traj.times.tolist() == [0.0] * len(traj)  # geometric: timing is the caller's
 
 
+def test_stuck_rrtconnect_alternates_with_the_fallback_and_keeps_its_trees(blocked, monkeypatch):
+    """With a tiny first budget RRTConnect is cut again and again: the fallback planner takes
+    turns with it, each turn a fresh run, while RRTConnect goes on with the one set-up it
+    made; the result is free, and the same for the same seed."""
+    scene, start, goal = blocked
+    monkeypatch.setattr(op, "FALLBACK_CHECKS", 1)
+    made, solves = [], []
+
+    class Recording(op._OMPLRun):
+        def __init__(self, req, x_start, goals, cls_name, *args):
+            super().__init__(req, x_start, goals, cls_name, *args)
+            made.append(cls_name)
+
+        def solve(self, share, budget):
+            solves.append((self.cls_name, id(self), budget))
+            return super().solve(share, budget)
+
+    monkeypatch.setattr(op, "_OMPLRun", Recording)
+    pipeline = OMPLPipeline()
+    result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=20.0, seed=3)
+    assert result, result.message
+    assert len(solves) >= 3  # cut at least twice
+    assert [budget for _, _, budget in solves] == [2 ** k for k in range(len(solves))]
+    assert [name for name, _, _ in solves] == ["RRTConnect", op.FALLBACK_PLANNER] * (len(solves) // 2) + (
+        ["RRTConnect"] if len(solves) % 2 else [])
+    assert made.count("RRTConnect") == 1 and made.count(op.FALLBACK_PLANNER) == len(solves) // 2
+    assert len({i for name, i, _ in solves if name == "RRTConnect"}) == 1
+    assert pipeline.last_stats.planner == solves[-1][0]
+    _assert_collision_free_at(scene, traj, 0.005)
+    made.clear()
+    solves.clear()
+    again, traj2 = OMPLPipeline().plan_joint(scene, start, goal, ARM, timeout=20.0, seed=3)
+    assert again
+    np.testing.assert_array_equal(traj2.positions, traj.positions)
+
+
 def test_free_straight_line_is_taken(ready_scene, pipeline):
     start = _state(ready_scene, panda_joint1=-0.5)
     goal = _state(ready_scene, panda_joint1=0.5, panda_joint4=-2.0)
