@@ -358,6 +358,80 @@ def test_unreachable_pose_goal_has_no_ik_solution(ready_scene, pipeline):
     assert result.message.startswith("NO_IK_SOLUTION")
 
 
+def test_pose_goal_in_clutter_gets_more_ik_attempts(blocked, monkeypatch):
+    """Where the first IK attempts find solutions but none valid, further attempts look for one
+    valid goal; an unreachable pose (no IK solution at all) gets no further attempts."""
+    from mtc.planners import ik
+
+    scene, start, goal = blocked
+    target = goal.get_global_link_transform("panda_hand")
+    calls = []
+    real = ik.get_ik_solver
+
+    class FirstTierInvalid:
+        """The solver, with every solution of the first call judged invalid."""
+
+        def __init__(self, solver):
+            self._solver = solver
+
+        def __getattr__(self, name):
+            return getattr(self._solver, name)
+
+        def solve(self, *args, is_valid, max_attempts, max_solutions, **kw):
+            first = not calls
+            calls.append((max_attempts, max_solutions))
+            check = (lambda q: is_valid(q + 100.0)) if first else is_valid  # out of bounds: rejected
+            return self._solver.solve(*args, is_valid=check, max_attempts=max_attempts,
+                                      max_solutions=max_solutions, **kw)
+
+    monkeypatch.setattr(ik, "get_ik_solver", lambda *a: FirstTierInvalid(real(*a)))
+    result, traj = OMPLPipeline().plan_pose(scene, start, "panda_hand", np.eye(4), target, ARM, timeout=5.0, seed=0)
+    assert result, result.message
+    assert calls == [(op.POSE_GOAL_IK_ATTEMPTS, op.POSE_GOAL_SAMPLES), (op.POSE_GOAL_IK_MORE_ATTEMPTS, 1)]
+    np.testing.assert_allclose(traj[-1].get_global_link_transform("panda_hand"), target, atol=1e-4)
+    calls.clear()
+    far = np.eye(4)
+    far[:3, 3] = [2.0, 0.0, 0.5]
+    result, _ = OMPLPipeline().plan_pose(scene, start, "panda_hand", np.eye(4), far, ARM, timeout=5.0, seed=0)
+    assert not result and len(calls) == 1
+
+
+def test_sub_search_stops_at_its_check_budget(blocked):
+    """A search given ``max_checks`` gives up after about that many checks, with a message that
+    says so (the repair of a failing edge uses this: REPAIR_CHECKS)."""
+    scene, start, goal = blocked
+    pipeline = OMPLPipeline()
+    req, failure = pipeline._prepare(scene, start, ARM, 5.0, None)
+    assert failure is None
+    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
+    a, b = start.positions[idx], goal.positions[idx]
+    before = req.checker.states_checked
+    path, message = pipeline._run_ompl(req, a, [b], "RRTConnect", 0, None, 30)
+    assert path is None and message == "PLANNING_FAILED: no solution found in 30 state checks (RRTConnect, BKPIECE1)"
+    assert 30 <= req.checker.states_checked - before <= 30 + 64  # (the last edge's batch may overrun)
+    path, _ = pipeline._run_ompl(req, a, [b], "RRTConnect", 0, None, 100000)
+    assert path is not None
+
+
+def test_search_runs_again_in_full_when_its_path_cannot_be_made_valid(blocked, monkeypatch):
+    """A path whose failing edges cannot be repaired does not end the request while there is
+    time: a new search, checking its edges in full, runs."""
+    scene, start, goal = blocked
+    finalized = []
+    real = OMPLPipeline._finalize
+
+    def first_fails(self, req, path, *args):
+        finalized.append(req.checker.search_fine)
+        return None if len(finalized) == 1 else real(self, req, path, *args)
+
+    monkeypatch.setattr(OMPLPipeline, "_finalize", first_fails)
+    pipeline = OMPLPipeline()
+    result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=5.0, seed=1)
+    assert result, result.message
+    assert finalized == [False, True] and pipeline.last_stats.attempts == 2
+    _assert_collision_free_at(scene, traj, 0.005)
+
+
 # --- edge checking and clean output -----------------------------------------------------------
 
 

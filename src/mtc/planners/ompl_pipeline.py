@@ -33,8 +33,10 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    stretches not covered are halved). So the path is free at any interpolation resolution,
    as long as the robot's joints are revolute or prismatic (others: checked at every
    :data:`DEFAULT_RESOLUTION` state, 0.015 rad). Path constraints hold at every
-   :data:`DEFAULT_RESOLUTION` state. An edge that fails is replanned (sub-searches whose
-   paths are then proven). Start and goal are exact; the goal tolerance
+   :data:`DEFAULT_RESOLUTION` state. An edge that fails is replanned (sub-searches of at most
+   :data:`REPAIR_CHECKS` checks whose paths are then proven); where that fails too, the whole
+   search runs again, checking its edges in full, while there is time. Start and goal are
+   exact; the goal tolerance
    only admits goals already that close. RRTConnect (the default) that has not found a path
    after :data:`FALLBACK_CHECKS` state checks hands over to :data:`FALLBACK_PLANNER`
    (BKPIECE1, a fresh run each turn), then goes on with its trees in the next turn, the
@@ -125,10 +127,21 @@ SHORTCUT_FAILURES = 2
 REPAIR_TRIES = 2
 #: Levels of repairs of a repairing sub-search's own path (see OMPLPipeline._repair).
 REPAIR_DEPTH = 1
+#: State checks one repairing sub-search may make. A sub-search that needs more is between
+#: states in narrow places that the search's resolution let it pass and the full check does not
+#: (on a MotionBenchMaker-like shelf problem such sub-searches took 20 000 - 110 000 checks and
+#: their paths failed the full check again): a new search does better (see OMPLPipeline._solve).
+REPAIR_CHECKS = 10000
 #: Fewest waypoints of a returned path (MoveIt's ``minimum_waypoint_count``).
 MIN_WAYPOINT_COUNT = 10
 #: IK solutions sampled as goal states of a pose goal.
 POSE_GOAL_SAMPLES = 4
+#: IK attempts (random restarts) for those goals.
+POSE_GOAL_IK_ATTEMPTS = 200
+#: Further IK attempts for a first goal where those found none: the valid solutions of a
+#: hand deep in a narrow place can be rare (one MotionBenchMaker-like goal in front of a can
+#: on a cluttered table had none in its first 200 and one among the next 200).
+POSE_GOAL_IK_MORE_ATTEMPTS = 800
 #: Extension step of RRT-family planners [rad, Euclidean]. OMPL's default (0.2 of the maximum
 #: extent, about 2.6 rad for the Panda) makes long edges that are mostly blocked. On the
 #: MotionBenchMaker problems (bench/motion_bench.py, seeds 0 and 1) 0.5 needed the fewest
@@ -231,6 +244,10 @@ def _result(success: bool, message: str = ""):
     from mtc.planners.planner_interface import PlannerResult  # owner A's seam, imported lazily
 
     return PlannerResult(success, message)
+
+
+def _out_of_checks(max_checks: int, planner: str) -> str:
+    return f"PLANNING_FAILED: no solution found in {max_checks} state checks ({planner})"
 
 
 @contextmanager
@@ -1141,27 +1158,32 @@ class OMPLPipeline:
                 return False
             return True
 
-        budget = max(0.0, min(req.deadline - time.perf_counter(), req.group.default_ik_timeout * 10))
-        solutions = solver.solve(
-            link_target,
-            req.base,
-            timeout=budget,
-            rng=np.random.default_rng([int(seed), 1]),
-            is_valid=is_valid,
-            max_solutions=POSE_GOAL_SAMPLES,
-            max_attempts=200,
-            tolerance=min(pos_tol, rot_tol, 1e-6) if min(pos_tol, rot_tol) > 0 else 1e-9,
-        )
+        rng = np.random.default_rng([int(seed), 1])
         goals = []
-        for q in solutions:
-            reached = solver.forward(q).homogeneous
-            err_p = float(np.linalg.norm(reached[:3, 3] - link_target[:3, 3]))
-            R = link_target[:3, :3].T @ reached[:3, :3]
-            err_r = msgs.rotation_angle(R)
-            if err_p <= pos_tol + 1e-12 and err_r <= rot_tol + 1e-12:
-                goals.append(q[idx].astype(float))
-        if goals:
-            return goals, ""
+        # up to POSE_GOAL_SAMPLES goals from the first attempts; where those found IK solutions
+        # but none valid (a goal in a narrow place), the first valid one of further attempts
+        for attempts, wanted in ((POSE_GOAL_IK_ATTEMPTS, POSE_GOAL_SAMPLES), (POSE_GOAL_IK_MORE_ATTEMPTS, 1)):
+            if wanted == 1 and not (rejected["invalid"] or rejected["bounds"]):
+                break
+            solutions = solver.solve(
+                link_target,
+                req.base,
+                timeout=max(0.0, req.deadline - time.perf_counter()),
+                rng=rng,
+                is_valid=is_valid,
+                max_solutions=wanted,
+                max_attempts=attempts,
+                tolerance=min(pos_tol, rot_tol, 1e-6) if min(pos_tol, rot_tol) > 0 else 1e-9,
+            )
+            for q in solutions:
+                reached = solver.forward(q).homogeneous
+                err_p = float(np.linalg.norm(reached[:3, 3] - link_target[:3, 3]))
+                R = link_target[:3, :3].T @ reached[:3, :3]
+                err_r = msgs.rotation_angle(R)
+                if err_p <= pos_tol + 1e-12 and err_r <= rot_tol + 1e-12:
+                    goals.append(q[idx].astype(float))
+            if goals:
+                return goals, ""
         if rejected["invalid"] or rejected["bounds"]:
             return [], (
                 f"NO_IK_SOLUTION: no valid goal state for '{link}' ({rejected['invalid']} IK solutions in "
@@ -1244,6 +1266,7 @@ class OMPLPipeline:
         best = None
         last_message = ""
         attempt = 0
+        renewed = 0  # searches run again because their path could not be made valid in full
         while attempt < attempts:
             if time.perf_counter() >= req.deadline:
                 break
@@ -1252,7 +1275,10 @@ class OMPLPipeline:
             # optimizing planners use all the time they get: share it between the attempts
             share = (req.deadline - t_plan) / (attempts - attempt) if cls_name in _OPTIMIZING else None
             before = checker.states_checked
-            path, message = runner(req, req.x_start, goals, cls_name, seed + attempt, share)
+            run_seed = seed + attempt + 1000003 * renewed
+            if renewed:
+                checker.search_fine = True  # (a renewed search checks its edges in full)
+            path, message = runner(req, req.x_start, goals, cls_name, run_seed, share)
             stats.plan_time += time.perf_counter() - t_plan
             stats.search_checks += checker.states_checked - before
             if path is None:
@@ -1260,9 +1286,14 @@ class OMPLPipeline:
                 attempt += 1
                 continue
             stats.raw_waypoints = len(path)
-            final = self._finalize(req, path, runner, cls_name, seed + attempt)
+            final = self._finalize(req, path, runner, cls_name, run_seed)
             if final is None:
                 last_message = "TIMED_OUT: no collision-free path at the checking resolution within the time"
+                if best is None and attempt == attempts - 1:
+                    # the search went through a place only its coarser checks let it pass: a
+                    # new search (new seed, every edge checked in full) while there is time
+                    renewed += 1
+                    continue
                 attempt += 1
                 continue
             if best is None or _path_length(final) < _path_length(best):
@@ -1334,7 +1365,7 @@ class OMPLPipeline:
                 for k in range(REPAIR_TRIES + 1):
                     checker.search_fine = k == REPAIR_TRIES
                     sub_seed = seed + 7919 * (i + 1) + 104729 * k
-                    sub, _ = runner(req, a, [b], cls_name, sub_seed, None)
+                    sub, _ = runner(req, a, [b], cls_name, sub_seed, None, REPAIR_CHECKS)
                     if sub is None or checker.path_ok(sub, fine=True):
                         break
                     if depth < REPAIR_DEPTH:
@@ -1370,8 +1401,9 @@ class OMPLPipeline:
 
     # ------------------------------------------------------------------ OMPL
     def _run_ompl(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
-                  share=None):
-        """One attempt with an OMPL planner: (path as n x k array, "") or (None, message).
+                  share=None, max_checks: int | None = None):
+        """One attempt with an OMPL planner: (path as n x k array, "") or (None, message);
+        at most ``max_checks`` state checks where given.
 
         RRTConnect's run time is heavy-tailed: a start or goal in a trap (a narrow way out,
         joints near their limits) keeps its tree stuck for seconds. So RRTConnect runs until
@@ -1382,14 +1414,19 @@ class OMPLPipeline:
         starting afresh, and halved the worst cases); the fallback starts afresh each time,
         with a new seed (going on with its tree did no better). Budgets count state checks,
         not time, so a seed still gives one result."""
+        limit = None if max_checks is None else req.checker.states_checked + max_checks
         if cls_name != "RRTConnect" or FALLBACK_PLANNER not in _PLANNERS.values():
-            path, message, _ = self._ompl_once(req, x_start, goals, cls_name, seed, share, None)
-            return path, message
+            path, message, cut = self._ompl_once(req, x_start, goals, cls_name, seed, share, max_checks)
+            return path, (_out_of_checks(max_checks, cls_name) if cut else message)
         main = _OMPLRun(req, x_start, goals, cls_name, seed, self.planner_range)
         budget = FALLBACK_CHECKS
         turn = 0
         try:
             while True:
+                if limit is not None:
+                    if req.checker.states_checked >= limit:
+                        return None, _out_of_checks(max_checks, f"{cls_name}, {FALLBACK_PLANNER}")
+                    budget = min(budget, limit - req.checker.states_checked)
                 if turn % 2 == 0:
                     name, path, message, cut = cls_name, *main.solve(share, budget)
                 else:
@@ -1419,8 +1456,9 @@ class OMPLPipeline:
 
     # ------------------------------------------------------------------ constrained
     def _run_constrained(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
-                         share=None):
-        return _constrained_rrt_connect(req, x_start, goals, np.random.default_rng([int(seed), 3]), self.resolution)
+                         share=None, max_checks: int | None = None):
+        return _constrained_rrt_connect(req, x_start, goals, np.random.default_rng([int(seed), 3]), self.resolution,
+                                        max_checks)
 
 
 class _OMPLRun:
@@ -1575,12 +1613,15 @@ class _Tree:
         return out
 
 
-def _constrained_rrt_connect(req: _Request, x_start, goals, rng: np.random.Generator, resolution: float):
+def _constrained_rrt_connect(req: _Request, x_start, goals, rng: np.random.Generator, resolution: float,
+                             max_checks: int | None = None):
     """CBiRRT (Berenson et al. 2009): a start tree and a goal tree grown towards random states
     and towards each other in steps of :data:`CONSTRAINED_STEP`, each new state projected onto
     the path constraints (:meth:`ConstraintEvaluator.project`) and checked, with its edge from
-    the previous state, by the edge checker. Returns (path, "") or (None, message)."""
+    the previous state, by the edge checker. Returns (path, "") or (None, message); gives up
+    after ``max_checks`` state checks where given."""
     checker, evaluator = req.checker, req.evaluator
+    limit = math.inf if max_checks is None else checker.states_checked + max_checks
     idx = req.group.variable_indices
     lower, upper = req.lower, req.upper
     base = req.base
@@ -1618,6 +1659,8 @@ def _constrained_rrt_connect(req: _Request, x_start, goals, rng: np.random.Gener
     trees = (_Tree([x_start]), _Tree(goals))
     a, b = 0, 1
     while time.perf_counter() < req.deadline:
+        if checker.states_checked >= limit:
+            return None, _out_of_checks(max_checks, "constrained RRT-Connect")
         sample = project(rng.uniform(lower, upper))
         if sample is None:
             continue
