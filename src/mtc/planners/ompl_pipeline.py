@@ -1159,31 +1159,28 @@ class OMPLPipeline:
             return True
 
         rng = np.random.default_rng([int(seed), 1])
-        goals = []
-        # up to POSE_GOAL_SAMPLES goals from the first attempts; where those found IK solutions
-        # but none valid (a goal in a narrow place), the first valid one of further attempts
-        for attempts, wanted in ((POSE_GOAL_IK_ATTEMPTS, POSE_GOAL_SAMPLES), (POSE_GOAL_IK_MORE_ATTEMPTS, 1)):
-            if wanted == 1 and not (rejected["invalid"] or rejected["bounds"]):
-                break
+        tolerance = min(pos_tol, rot_tol, 1e-6) if min(pos_tol, rot_tol) > 0 else 1e-9
+
+        def sample(attempts: int, wanted: int) -> list[np.ndarray]:
             solutions = solver.solve(
-                link_target,
-                req.base,
-                timeout=max(0.0, req.deadline - time.perf_counter()),
-                rng=rng,
-                is_valid=is_valid,
-                max_solutions=wanted,
-                max_attempts=attempts,
-                tolerance=min(pos_tol, rot_tol, 1e-6) if min(pos_tol, rot_tol) > 0 else 1e-9,
+                link_target, req.base, timeout=max(0.0, req.deadline - time.perf_counter()), rng=rng,
+                is_valid=is_valid, max_solutions=wanted, max_attempts=attempts, tolerance=tolerance,
             )
+            goals = []
             for q in solutions:
                 reached = solver.forward(q).homogeneous
                 err_p = float(np.linalg.norm(reached[:3, 3] - link_target[:3, 3]))
-                R = link_target[:3, :3].T @ reached[:3, :3]
-                err_r = msgs.rotation_angle(R)
+                err_r = msgs.rotation_angle(link_target[:3, :3].T @ reached[:3, :3])
                 if err_p <= pos_tol + 1e-12 and err_r <= rot_tol + 1e-12:
                     goals.append(q[idx].astype(float))
-            if goals:
-                return goals, ""
+            return goals
+
+        goals = sample(POSE_GOAL_IK_ATTEMPTS, POSE_GOAL_SAMPLES)
+        if not goals and (rejected["invalid"] or rejected["bounds"]):
+            # IK solutions, but none valid (a goal in a narrow place): one valid goal from more
+            goals = sample(POSE_GOAL_IK_MORE_ATTEMPTS, 1)
+        if goals:
+            return goals, ""
         if rejected["invalid"] or rejected["bounds"]:
             return [], (
                 f"NO_IK_SOLUTION: no valid goal state for '{link}' ({rejected['invalid']} IK solutions in "

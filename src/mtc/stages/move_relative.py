@@ -166,9 +166,10 @@ class MoveRelative(PlannerStage):
             else:
                 v = motion.vector
                 linear = np.array([v.x, v.y, v.z], dtype=float)
-                n = float(np.linalg.norm(linear))
-                if max_distance > 0.0 and n > 0.0:  # (a zero vector stays zero, as Eigen's normalize)
-                    linear *= max_distance / n
+                linear_norm = float(np.linalg.norm(linear))
+                if max_distance > 0.0 and linear_norm > 0.0:  # (a zero vector stays zero, as Eigen's normalize)
+                    linear *= max_distance / linear_norm
+                    linear_norm = max_distance
                 if backward:
                     linear = -linear
                 linear = frame[:3, :3] @ linear
@@ -194,7 +195,7 @@ class MoveRelative(PlannerStage):
                 elif not success:
                     solution.comment = "failed to move full distance"
                 ns = props.get("marker_ns", "")
-                if ns and not use_rotation_distance and np.linalg.norm(linear) > _MIN_ARROW:
+                if ns and not use_rotation_distance and linear_norm > _MIN_ARROW:
                     # reached part green, missing part red (MTC's visualizePlan)
                     frame_id = scene.planning_frame
                     given, got, wanted = start_pose[:3, 3], reached[:3, 3], target[:3, 3]
