@@ -66,7 +66,8 @@ def test_thin_board_shelf_is_repaired_edge_by_edge(panda):
     start.set_variable_positions({k: v for k, v in data["start"].items() if "finger" not in k})
     goal.set_variable_positions({k: v for k, v in data["goal"].items() if "finger" not in k})
     pipeline = OMPLPipeline()
-    result, traj = pipeline.plan_joint(scene, start, goal, "panda_arm", timeout=5.0, seed=0)
+    # (seed 2: a search whose path has failing edges; seeds 0, 1 and 3 find free paths at once)
+    result, traj = pipeline.plan_joint(scene, start, goal, "panda_arm", timeout=5.0, seed=2)
     assert result, result.message
     stats = pipeline.last_stats
     assert stats.fine_retries >= 1

@@ -116,10 +116,10 @@ def test_plans_around_an_obstacle_collision_free_at_fine_resolution(blocked, pip
     assert traj.times.tolist() == [0.0] * len(traj)  # geometric: timing is the caller's
 
 
-def test_stuck_rrtconnect_alternates_with_the_fallback_and_keeps_its_trees(blocked, monkeypatch):
+def test_stuck_rrtconnect_alternates_with_the_fallback_and_both_keep_their_trees(blocked, monkeypatch):
     """With a tiny first budget RRTConnect is cut again and again: the fallback planner takes
-    turns with it, each turn a fresh run, while RRTConnect goes on with the one set-up it
-    made; the result is free, and the same for the same seed."""
+    turns with it, with FALLBACK_SHARE times RRTConnect's budget, and each of the two goes on
+    with the one set-up it made; the result is free, and the same for the same seed."""
     scene, start, goal = blocked
     monkeypatch.setattr(op, "FALLBACK_CHECKS", 1)
     made, solves = [], []
@@ -138,11 +138,13 @@ def test_stuck_rrtconnect_alternates_with_the_fallback_and_keeps_its_trees(block
     result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=20.0, seed=3)
     assert result, result.message
     assert len(solves) >= 3  # cut at least twice
-    assert [budget for _, _, budget in solves] == [2 ** k for k in range(len(solves))]
+    share = op.FALLBACK_SHARE
+    assert [budget for _, _, budget in solves] == [4 ** (k // 2) * (share if k % 2 else 1) for k in range(len(solves))]
     assert [name for name, _, _ in solves] == ["RRTConnect", op.FALLBACK_PLANNER] * (len(solves) // 2) + (
         ["RRTConnect"] if len(solves) % 2 else [])
-    assert made.count("RRTConnect") == 1 and made.count(op.FALLBACK_PLANNER) == len(solves) // 2
+    assert made == ["RRTConnect", op.FALLBACK_PLANNER]
     assert len({i for name, i, _ in solves if name == "RRTConnect"}) == 1
+    assert len({i for name, i, _ in solves if name == op.FALLBACK_PLANNER}) == 1
     assert pipeline.last_stats.planner == solves[-1][0]
     _assert_collision_free_at(scene, traj, 0.005)
     made.clear()
@@ -190,6 +192,31 @@ def test_more_attempts_never_give_a_longer_path(blocked, pipeline):
     result, three = pipeline.plan_joint(scene, start, goal, ARM, timeout=5.0, seed=7, attempts=3)
     assert result and pipeline.last_stats.attempts == 3
     assert pipeline.last_stats.path_length <= length_one + 1e-9
+
+
+@pytest.mark.parametrize("planner", ["KPIECE1", "LBKPIECE1", "BKPIECE1"])
+def test_kpiece_planners_project_onto_the_groups_first_two_joints(blocked, planner):
+    """As MoveIt's default ``projection_evaluator: joints(j1, j2)`` (OMPL's own default for a
+    7-dimensional space is a random linear projection)."""
+    scene, start, goal = blocked
+    pipeline = OMPLPipeline()
+    req, failure = pipeline._prepare(scene, start, ARM, 5.0, None)
+    assert failure is None
+    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
+    run = op._OMPLRun(req, start.positions[idx], [goal.positions[idx]], planner, 0, pipeline.planner_range)
+    try:
+        projection = run._objects[1].getProjectionEvaluator()
+        space = run._objects[3]
+        assert projection.getDimension() == 2
+        state = space.allocState()
+        x = np.array([0.3, -0.4, 0.5, -2.0, 0.1, 1.5, 0.7])
+        for i, v in enumerate(x):
+            state[i] = float(v)
+        out = np.zeros(2)
+        projection.project(state, out)
+        np.testing.assert_array_equal(out, x[:2])
+    finally:
+        run.release()
 
 
 @pytest.mark.parametrize("planner", ["RRTkConfigDefault", "LBKPIECEkConfigDefault", "PRMkConfigDefault",
@@ -407,7 +434,7 @@ def test_sub_search_stops_at_its_check_budget(blocked):
     a, b = start.positions[idx], goal.positions[idx]
     before = req.checker.states_checked
     path, message = pipeline._run_ompl(req, a, [b], "RRTConnect", 0, None, 30)
-    assert path is None and message == "PLANNING_FAILED: no solution found in 30 state checks (RRTConnect, BKPIECE1)"
+    assert path is None and message == "PLANNING_FAILED: no solution found in 30 state checks (RRTConnect, LBKPIECE1)"
     assert 30 <= req.checker.states_checked - before <= 30 + 64  # (the last edge's batch may overrun)
     path, _ = pipeline._run_ompl(req, a, [b], "RRTConnect", 0, None, 100000)
     assert path is not None

@@ -38,10 +38,12 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    search runs again, checking its edges in full, while there is time. Start and goal are
    exact; the goal tolerance
    only admits goals already that close. RRTConnect (the default) that has not found a path
-   after :data:`FALLBACK_CHECKS` state checks hands over to :data:`FALLBACK_PLANNER`
-   (BKPIECE1, a fresh run each turn), then goes on with its trees in the next turn, the
-   budget doubling each turn: a start or goal in a trap keeps RRTConnect's trees stuck for
-   seconds, BKPIECE1 gets out.
+   after :data:`FALLBACK_CHECKS` state checks takes turns with :data:`FALLBACK_PLANNER`
+   (LBKPIECE1, which checks lazily: only the edges of paths that join start and goal), both
+   going on with their trees and the budgets growing each turn: a start or goal in a trap
+   keeps RRTConnect's trees stuck for seconds. Planners that grid a projection of the space
+   (the KPIECE family) project onto the group's first two joints, as MoveIt's default
+   ``projection_evaluator: joints(j1, j2)``.
 5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
    points on the path, bounded by counts so that a seed gives one result), then
    interpolated to waypoints at most ``maximum extent / 100`` apart (at least
@@ -154,12 +156,14 @@ MAX_TURNED_JOINTS = 3
 #: then checked at every state (:data:`DEFAULT_RESOLUTION`).
 DEFAULT_SEARCH_RATIO = 4
 #: State checks of RRTConnect's first run before :data:`FALLBACK_PLANNER` takes over (see
-#: :meth:`OMPLPipeline._run_ompl`). The median MotionBenchMaker problem needs 300-1000; with
-#: 1000, 2000 and 4000 the benchmark's slowest problems (RRTConnect alone: 8 000 - 77 000)
-#: took at most ~15 000, with 2000 the fewest checks in all.
-FALLBACK_CHECKS = 2000
-#: The planner that alternates with RRTConnect when that is stuck.
-FALLBACK_PLANNER = "BKPIECE1"
+#: :meth:`OMPLPipeline._run_ompl`). Most MotionBenchMaker problems are solved within it.
+FALLBACK_CHECKS = 600
+#: The planner that takes turns with RRTConnect when that is stuck: lazy, so it checks only
+#: the edges of paths that reach from start to goal in its trees.
+FALLBACK_PLANNER = "LBKPIECE1"
+#: Each turn of :data:`FALLBACK_PLANNER` may check this many times as many states as the
+#: RRTConnect turn before it.
+FALLBACK_SHARE = 8
 
 #: Time budget [s] of a request whose timeout is infinite (MoveIt's default planning time).
 UNBOUNDED_TIMEOUT = 5.0
@@ -1403,32 +1407,33 @@ class OMPLPipeline:
         at most ``max_checks`` state checks where given.
 
         RRTConnect's run time is heavy-tailed: a start or goal in a trap (a narrow way out,
-        joints near their limits) keeps its tree stuck for seconds. So RRTConnect runs until
-        it has checked :data:`FALLBACK_CHECKS` states, then :data:`FALLBACK_PLANNER` (whose
-        cell-based expansion favours the least explored regions) gets twice as many, then
-        RRTConnect again, and so on, the budget doubling each time. RRTConnect goes on with
-        its trees (over 6 hard problems and 40 seeds that took 15% fewer checks in all than
-        starting afresh, and halved the worst cases); the fallback starts afresh each time,
-        with a new seed (going on with its tree did no better). Budgets count state checks,
-        not time, so a seed still gives one result."""
+        joints near their limits) keeps its tree stuck for seconds, most of its checks spent
+        on extensions that end at an obstacle. So RRTConnect runs until it has checked
+        :data:`FALLBACK_CHECKS` states, then :data:`FALLBACK_PLANNER` (lazy: it grows its
+        trees unchecked, favouring the least explored cells of a projection, and checks only
+        the edges of a path that joins start and goal) gets :data:`FALLBACK_SHARE` times as
+        many, then RRTConnect again with four times its first budget, and so on. Both go on
+        with their trees from turn to turn. Budgets count state checks, not time, so a seed
+        still gives one result."""
         limit = None if max_checks is None else req.checker.states_checked + max_checks
         if cls_name != "RRTConnect" or FALLBACK_PLANNER not in _PLANNERS.values():
             path, message, cut = self._ompl_once(req, x_start, goals, cls_name, seed, share, max_checks)
             return path, (_out_of_checks(max_checks, cls_name) if cut else message)
-        main = _OMPLRun(req, x_start, goals, cls_name, seed, self.planner_range)
-        budget = FALLBACK_CHECKS
+        runs = [_OMPLRun(req, x_start, goals, cls_name, seed, self.planner_range)]
         turn = 0
         try:
             while True:
+                # RRTConnect: B, 4B, 16B, ...; the fallback: S B, 4 S B, ... (B = FALLBACK_CHECKS)
+                budget = FALLBACK_CHECKS * 4 ** (turn // 2) * (FALLBACK_SHARE if turn % 2 else 1)
                 if limit is not None:
                     if req.checker.states_checked >= limit:
                         return None, _out_of_checks(max_checks, f"{cls_name}, {FALLBACK_PLANNER}")
                     budget = min(budget, limit - req.checker.states_checked)
-                if turn % 2 == 0:
-                    name, path, message, cut = cls_name, *main.solve(share, budget)
-                else:
-                    name = FALLBACK_PLANNER
-                    path, message, cut = self._ompl_once(req, x_start, goals, name, seed + 104729 * turn, share, budget)
+                if turn == 1:
+                    runs.append(_OMPLRun(req, x_start, goals, FALLBACK_PLANNER, seed + 104729, self.planner_range))
+                run = runs[turn % 2]
+                name = run.cls_name
+                path, message, cut = run.solve(share, budget)
                 if not cut:
                     if path is not None and name != cls_name:
                         self.last_stats.planner = name
@@ -1438,9 +1443,9 @@ class OMPLPipeline:
                 log.debug("%s: no path after %d state checks, trying %s", name, budget,
                           FALLBACK_PLANNER if name == cls_name else cls_name)
                 turn += 1
-                budget *= 2
         finally:
-            main.release()
+            for run in runs:
+                run.release()
 
     def _ompl_once(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
                    share, budget: int | None):
@@ -1499,6 +1504,11 @@ class _OMPLRun:
                     goal_states.addState(self._state(space, g))
                 ss.setGoal(goal_states)
             planner = getattr(og, cls_name)(si)
+            if k > 2 and hasattr(planner, "setProjectionEvaluator"):
+                # MoveIt's default projection for the KPIECE family and the other planners that
+                # grid a projection of the space: the group's first two joints (for an arm the
+                # ones that move the most; OMPL's own default is a random linear projection)
+                planner.setProjectionEvaluator(ob.RealVectorOrthogonalProjectionEvaluator(space, [0, 1]))
             # the short extension suits feasibility planners; asymptotically optimal ones keep
             # OMPL's default (their rewiring needs the long reach to find a first path in time)
             if planner_range > 0 and cls_name not in _OPTIMIZING and hasattr(planner, "setRange"):
