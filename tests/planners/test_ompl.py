@@ -196,8 +196,9 @@ def test_more_attempts_never_give_a_longer_path(blocked, pipeline):
 
 @pytest.mark.parametrize("planner", ["KPIECE1", "LBKPIECE1", "BKPIECE1"])
 def test_kpiece_planners_project_onto_the_groups_first_two_joints(blocked, planner):
-    """As MoveIt's default ``projection_evaluator: joints(j1, j2)`` (OMPL's own default for a
-    7-dimensional space is a random linear projection)."""
+    """As MoveIt's Panda configuration has it (``projection_evaluator:
+    joints(panda_joint1,panda_joint2)``; OMPL's own default for a 7-dimensional space is a
+    random linear projection)."""
     scene, start, goal = blocked
     pipeline = OMPLPipeline()
     req, failure = pipeline._prepare(scene, start, ARM, 5.0, None)

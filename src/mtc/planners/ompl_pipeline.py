@@ -42,8 +42,8 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    (LBKPIECE1, which checks lazily: only the edges of paths that join start and goal), both
    going on with their trees and the budgets growing each turn: a start or goal in a trap
    keeps RRTConnect's trees stuck for seconds. Planners that grid a projection of the space
-   (the KPIECE family) project onto the group's first two joints, as MoveIt's default
-   ``projection_evaluator: joints(j1, j2)``.
+   (the KPIECE family) project onto the group's first two joints, as MoveIt's Panda
+   configuration does (``projection_evaluator: joints(panda_joint1,panda_joint2)``).
 5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
    points on the path, bounded by counts so that a seed gives one result), then
    interpolated to waypoints at most ``maximum extent / 100`` apart (at least
@@ -1505,9 +1505,9 @@ class _OMPLRun:
                 ss.setGoal(goal_states)
             planner = getattr(og, cls_name)(si)
             if k > 2 and hasattr(planner, "setProjectionEvaluator"):
-                # MoveIt's default projection for the KPIECE family and the other planners that
-                # grid a projection of the space: the group's first two joints (for an arm the
-                # ones that move the most; OMPL's own default is a random linear projection)
+                # the KPIECE family and the other planners that grid a projection of the space:
+                # the group's first two joints, as MoveIt's Panda configuration has it (for an
+                # arm the ones that move the most; OMPL's default is a random linear projection)
                 planner.setProjectionEvaluator(ob.RealVectorOrthogonalProjectionEvaluator(space, [0, 1]))
             # the short extension suits feasibility planners; asymptotically optimal ones keep
             # OMPL's default (their rewiring needs the long reach to find a first path in time)
