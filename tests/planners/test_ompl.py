@@ -209,12 +209,9 @@ def test_kpiece_planners_project_onto_the_groups_first_two_joints(blocked, plann
         projection = run._objects[1].getProjectionEvaluator()
         space = run._objects[3]
         assert projection.getDimension() == 2
-        state = space.allocState()
         x = np.array([0.3, -0.4, 0.5, -2.0, 0.1, 1.5, 0.7])
-        for i, v in enumerate(x):
-            state[i] = float(v)
         out = np.zeros(2)
-        projection.project(state, out)
+        projection.project(run._state(space, x), out)
         np.testing.assert_array_equal(out, x[:2])
     finally:
         run.release()

@@ -156,7 +156,8 @@ MAX_TURNED_JOINTS = 3
 #: then checked at every state (:data:`DEFAULT_RESOLUTION`).
 DEFAULT_SEARCH_RATIO = 4
 #: State checks of RRTConnect's first run before :data:`FALLBACK_PLANNER` takes over (see
-#: :meth:`OMPLPipeline._run_ompl`). Most MotionBenchMaker problems are solved within it.
+#: :meth:`OMPLPipeline._run_ompl`). RRTConnect (or the straight line) solved 66-88% of the
+#: problems of each MotionBenchMaker family in the data (3 seeds), few of the cage problems.
 FALLBACK_CHECKS = 600
 #: The planner that takes turns with RRTConnect when that is stuck: lazy, so it checks only
 #: the edges of paths that reach from start to goal in its trees.
