@@ -194,17 +194,23 @@ def test_more_attempts_never_give_a_longer_path(blocked, pipeline):
     assert pipeline.last_stats.path_length <= length_one + 1e-9
 
 
-@pytest.mark.parametrize("planner", ["KPIECE1", "LBKPIECE1", "BKPIECE1"])
-def test_kpiece_planners_project_onto_the_groups_first_two_joints(blocked, planner):
-    """As MoveIt's Panda configuration has it (``projection_evaluator:
-    joints(panda_joint1,panda_joint2)``; OMPL's own default for a 7-dimensional space is a
-    random linear projection)."""
+def _blocked_request(blocked):
+    """A prepared request of the ``blocked`` problem: (pipeline, request, start x, goal x)."""
     scene, start, goal = blocked
     pipeline = OMPLPipeline()
     req, failure = pipeline._prepare(scene, start, ARM, 5.0, None)
     assert failure is None
     idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
-    run = op._OMPLRun(req, start.positions[idx], [goal.positions[idx]], planner, 0, pipeline.planner_range)
+    return pipeline, req, start.positions[idx], goal.positions[idx]
+
+
+@pytest.mark.parametrize("planner", ["KPIECE1", "LBKPIECE1", "BKPIECE1"])
+def test_kpiece_planners_project_onto_the_groups_first_two_joints(blocked, planner):
+    """As MoveIt's Panda configuration has it (``projection_evaluator:
+    joints(panda_joint1,panda_joint2)``; OMPL's own default for a 7-dimensional space is a
+    random linear projection)."""
+    pipeline, req, a, b = _blocked_request(blocked)
+    run = op._OMPLRun(req, a, [b], planner, 0, pipeline.planner_range)
     try:
         projection = run._objects[1].getProjectionEvaluator()
         space = run._objects[3]
@@ -424,12 +430,7 @@ def test_pose_goal_in_clutter_gets_more_ik_attempts(blocked, monkeypatch):
 def test_sub_search_stops_at_its_check_budget(blocked):
     """A search given ``max_checks`` gives up after about that many checks, with a message that
     says so (the repair of a failing edge uses this: REPAIR_CHECKS)."""
-    scene, start, goal = blocked
-    pipeline = OMPLPipeline()
-    req, failure = pipeline._prepare(scene, start, ARM, 5.0, None)
-    assert failure is None
-    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
-    a, b = start.positions[idx], goal.positions[idx]
+    pipeline, req, a, b = _blocked_request(blocked)
     before = req.checker.states_checked
     path, message = pipeline._run_ompl(req, a, [b], "RRTConnect", 0, None, 30)
     assert path is None and message == "PLANNING_FAILED: no solution found in 30 state checks (RRTConnect, LBKPIECE1)"
@@ -462,12 +463,7 @@ def test_repairs_of_one_path_share_one_check_budget(blocked, monkeypatch):
     the search's own, stop together once REPAIR_CHECKS states are checked (successful repairs
     need far fewer; a path whose repairs fail gives way to a new search soon), and a repair
     whose budget is used up searches no more."""
-    scene, start, goal = blocked
-    pipeline = OMPLPipeline()
-    req, failure = pipeline._prepare(scene, start, ARM, 5.0, None)
-    assert failure is None
-    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
-    a, b = start.positions[idx], goal.positions[idx]
+    pipeline, req, a, b = _blocked_request(blocked)
     path = np.array([a, b])  # the straight edge runs through the box
     assert not req.checker.edge_ok_fine(a, b)
     budgets = []
