@@ -129,11 +129,12 @@ SHORTCUT_FAILURES = 2
 REPAIR_TRIES = 2
 #: Levels of repairs of a repairing sub-search's own path (see OMPLPipeline._repair).
 REPAIR_DEPTH = 1
-#: State checks the repairs of one path may make in all (sub-searches and the proofs of their
-#: paths). Repairs that need more are between states in narrow places that the search's
-#: resolution let it pass and the full check does not: over 268 MotionBenchMaker-like problems
-#: (2 seeds) every successful repair took under 4 000 checks, and the failing ones 22 000 -
-#: 46 000 before they gave up; a new search does better (see OMPLPipeline._solve).
+#: State checks that the repairs of a found path (of its shortened path, then of the search's
+#: own) may make in all, sub-searches and the proofs of their paths. Repairs that need more are
+#: between states in narrow places that the search's resolution let it pass and the full check
+#: does not: over 268 MotionBenchMaker-like problems (2 seeds) every successful repair took
+#: under 4 000 checks, and the two that failed 22 000 and 46 000 before they gave up; a new
+#: search does better (see OMPLPipeline._solve).
 REPAIR_CHECKS = 10000
 #: Fewest waypoints of a returned path (MoveIt's ``minimum_waypoint_count``).
 MIN_WAYPOINT_COUNT = 10
