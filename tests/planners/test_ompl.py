@@ -458,37 +458,6 @@ def test_search_runs_again_in_full_when_its_path_cannot_be_made_valid(blocked, m
     _assert_collision_free_at(scene, traj, 0.005)
 
 
-def test_repairs_of_one_path_share_one_check_budget(blocked, monkeypatch):
-    """The sub-searches that repair a path's failing edges, for the shortened path and then for
-    the search's own, stop together once REPAIR_CHECKS states are checked (successful repairs
-    need far fewer; a path whose repairs fail gives way to a new search soon), and a repair
-    whose budget is used up searches no more."""
-    pipeline, req, a, b = _blocked_request(blocked)
-    path = np.array([a, b])  # the straight edge runs through the box
-    assert not req.checker.edge_ok_fine(a, b)
-    budgets = []
-
-    def runner(req, x, goals, cls_name, seed, share, max_checks):
-        budgets.append(max_checks)
-        return pipeline._run_ompl(req, x, goals, cls_name, seed, share, max_checks)
-
-    before = req.checker.states_checked
-    assert pipeline._repair(req, path, runner, "RRTConnect", 0, before) is None and budgets == []
-    assert pipeline._repair(req, path, runner, "RRTConnect", 0, before + 40) is None
-    assert budgets == [40] and req.checker.states_checked - before <= 40 + 64
-    repairs = []
-
-    def failing_repair(self, req, path, runner, cls_name, seed, until, depth=0):
-        repairs.append((req.checker.states_checked, until))
-        req.checker.states_checked += 500  # as if it had searched
-        return None
-
-    monkeypatch.setattr(OMPLPipeline, "_repair", failing_repair)
-    assert pipeline._finalize(req, path, runner, "RRTConnect", 0) is None
-    assert len(repairs) == 2 and repairs[1][0] == repairs[0][0] + 500
-    assert repairs[0][1] == repairs[1][1] == repairs[0][0] + op.REPAIR_CHECKS
-
-
 # --- edge checking and clean output -----------------------------------------------------------
 
 

@@ -33,8 +33,8 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    stretches not covered are halved). So the path is free at any interpolation resolution,
    as long as the robot's joints are revolute or prismatic (others: checked at every
    :data:`DEFAULT_RESOLUTION` state, 0.015 rad). Path constraints hold at every
-   :data:`DEFAULT_RESOLUTION` state. An edge that fails is replanned (sub-searches whose paths
-   are then proven, at most :data:`REPAIR_CHECKS` checks in all); where that fails too, the whole
+   :data:`DEFAULT_RESOLUTION` state. An edge that fails is replanned (sub-searches of at most
+   :data:`REPAIR_CHECKS` checks whose paths are then proven); where that fails too, the whole
    search runs again, checking its edges in full, while there is time. Start and goal are
    exact; the goal tolerance
    only admits goals already that close. RRTConnect (the default) that has not found a path
@@ -129,12 +129,10 @@ SHORTCUT_FAILURES = 2
 REPAIR_TRIES = 2
 #: Levels of repairs of a repairing sub-search's own path (see OMPLPipeline._repair).
 REPAIR_DEPTH = 1
-#: State checks that the repairs of a found path (of its shortened path, then of the search's
-#: own) may make in all, sub-searches and the proofs of their paths. Repairs that need more are
-#: between states in narrow places that the search's resolution let it pass and the full check
-#: does not: over 268 MotionBenchMaker-like problems (2 seeds) every successful repair took
-#: under 4 000 checks, and the two that failed 22 000 and 46 000 before they gave up; a new
-#: search does better (see OMPLPipeline._solve).
+#: State checks one repairing sub-search may make. A sub-search that needs more is between
+#: states in narrow places that the search's resolution let it pass and the full check does not
+#: (on a MotionBenchMaker-like shelf problem such sub-searches took 20 000 - 110 000 checks and
+#: their paths failed the full check again): a new search does better (see OMPLPipeline._solve).
 REPAIR_CHECKS = 10000
 #: Fewest waypoints of a returned path (MoveIt's ``minimum_waypoint_count``).
 MIN_WAYPOINT_COUNT = 10
@@ -1337,10 +1335,9 @@ class OMPLPipeline:
             # replan the failing edges of the shortened path (edges of the search's path that
             # no shortcut replaced); the search's own path would need every one of its edges
             # checked in full
-            until = checker.states_checked + REPAIR_CHECKS
-            repaired = self._repair(req, out, runner, cls_name, seed, until)
+            repaired = self._repair(req, out, runner, cls_name, seed)
             if repaired is None:
-                repaired = self._repair(req, path, runner, cls_name, seed, until)
+                repaired = self._repair(req, path, runner, cls_name, seed)
             out = repaired
             if repaired is not None:
                 again = _shortcut(repaired, checker.edge_ok_fine, rng, deadline, checker)
@@ -1349,12 +1346,11 @@ class OMPLPipeline:
         self.last_stats.simplify_time += time.perf_counter() - t0
         return out
 
-    def _repair(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int, until: int, depth: int = 0):
+    def _repair(self, req: _Request, path: np.ndarray, runner, cls_name: str, seed: int, depth: int = 0):
         """``path`` with every edge that fails the full check replaced by a path searched anew
         (:data:`REPAIR_TRIES` sub-searches with the search's checks whose paths are then
         checked in full, the failing edges of such a path repaired in turn up to
-        :data:`REPAIR_DEPTH` levels, then one with full checks); None if none is found in time
-        or before the checker's count of checked states reaches ``until``."""
+        :data:`REPAIR_DEPTH` levels, then one with full checks); None if none is found in time."""
         checker = req.checker
         out = [path[0]]
         fine_before = checker.search_fine
@@ -1371,16 +1367,13 @@ class OMPLPipeline:
                 for k in range(REPAIR_TRIES + 1):
                     checker.search_fine = k == REPAIR_TRIES
                     sub_seed = seed + 7919 * (i + 1) + 104729 * k
-                    left = until - checker.states_checked
-                    if left <= 0:
-                        return None
-                    sub, _ = runner(req, a, [b], cls_name, sub_seed, None, left)
+                    sub, _ = runner(req, a, [b], cls_name, sub_seed, None, REPAIR_CHECKS)
                     if sub is None or checker.path_ok(sub, fine=True):
                         break
                     if depth < REPAIR_DEPTH:
                         # most of such a path holds: replan only its failing edges
                         checker.search_fine = fine_before
-                        sub = self._repair(req, sub, runner, cls_name, sub_seed + 1, until, depth + 1)
+                        sub = self._repair(req, sub, runner, cls_name, sub_seed + 1, depth + 1)
                         if sub is not None:
                             break
                     sub = None
