@@ -644,15 +644,24 @@ GENERATED_FAMILIES: dict[str, _GeneratedFamily] = {
 }
 
 
-def _rot_z(a: float) -> np.ndarray:
+#: Hand poses tried (one IK call each) for a generated problem's goal or IK start, per scene.
+HAND_POSE_TRIES = 20
+
+
+def _rotation(axis: int, a: float) -> np.ndarray:
+    """Rotation by ``a`` [rad] about the x (0), y (1) or z (2) axis."""
     c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+    i, j = (axis + 1) % 3, (axis + 2) % 3
+    R = np.eye(3)
+    R[i, i] = R[j, j] = c
+    R[i, j], R[j, i] = -s, s
+    return R
 
 
 def _level_hand(R: np.ndarray, rng: np.random.Generator) -> np.ndarray:
     """Orientation of a level hand pointing along ``R``'s x axis turned by up to +-0.3 rad
     about z, either side up."""
-    z = R @ _rot_z(rng.uniform(-0.3, 0.3))[:, 0]
+    z = R @ _rotation(2, rng.uniform(-0.3, 0.3))[:, 0]
     x = np.array([0.0, 0.0, 1.0 if rng.random() < 0.5 else -1.0])
     return np.column_stack([x, np.cross(z, x), z])
 
@@ -663,9 +672,8 @@ def _hand_pose(fam: _GeneratedFamily, world: np.ndarray, target: np.ndarray, rng
     R = world[:3, :3]
     if fam.approach == "top":
         tilt = rng.uniform(-0.4, 0.4)
-        c, s = np.cos(np.pi + tilt), np.sin(np.pi + tilt)
-        down = np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])  # hand z down, tilted about y
-        P[:3, :3] = R @ _rot_z(rng.uniform(-np.pi, np.pi)) @ down
+        down = _rotation(1, np.pi + tilt)  # hand z down, tilted about y
+        P[:3, :3] = R @ _rotation(2, rng.uniform(-np.pi, np.pi)) @ down
         P[:3, 3] = target[:3, 3] + R @ np.array([rng.uniform(-0.1, 0.1), rng.uniform(-0.1, 0.1), rng.uniform(0.12, 0.2)])
     else:
         P[:3, :3] = _level_hand(R, rng)  # towards the shelf or table
@@ -682,8 +690,8 @@ def _start_pose(anchor: np.ndarray, point: tuple[float, float, float], rng: np.r
 
 
 def _first_ik(solve_ik, obstacles, poses: Callable[[], np.ndarray], rng: np.random.Generator) -> np.ndarray | None:
-    """The first IK solution of up to 20 hand poses drawn by ``poses``."""
-    for _ in range(20):
+    """The first IK solution of up to :data:`HAND_POSE_TRIES` hand poses drawn by ``poses``."""
+    for _ in range(HAND_POSE_TRIES):
         q = solve_ik(obstacles, poses(), rng)
         if q is not None:
             return q
@@ -714,8 +722,8 @@ def generated_problems(
         solve_ik: ``solve_ik(obstacles, hand_pose, rng)``: a collision-free ``q7`` placing
             ``panda_hand`` at ``hand_pose`` (4x4, world frame), or None.
         finger: opening of each finger joint [m].
-        max_tries: scenes drawn per problem (each with up to 20 hand poses for the goal, and
-            as many for an IK start) before giving up.
+        max_tries: scenes drawn per problem (each with up to :data:`HAND_POSE_TRIES` hand poses
+            for the goal, and as many for an IK start) before giving up.
 
     Raises:
         ValueError: unknown family or negative ``n``.
@@ -734,7 +742,7 @@ def generated_problems(
     for k in range(1, n + 1):
         for _ in range(max_tries):
             world = np.eye(4)
-            world[:3, :3] = _rot_z(rng.uniform(-fam.yaw, fam.yaw))
+            world[:3, :3] = _rotation(2, rng.uniform(-fam.yaw, fam.yaw))
             world[:3, 3] = np.array(fam.base_offset) + rng.uniform(-1.0, 1.0, 3) * fam.shift
             obstacles = []
             for o in nominal:
@@ -744,7 +752,7 @@ def generated_problems(
                         pose = pose.copy()
                         pose[:3, 3] += rng.uniform(-1.0, 1.0, 3) * v.shift
                         if v.yaw:
-                            pose[:3, :3] = pose[:3, :3] @ _rot_z(rng.uniform(-v.yaw, v.yaw))
+                            pose[:3, :3] = pose[:3, :3] @ _rotation(2, rng.uniform(-v.yaw, v.yaw))
                 obstacles.append(Obstacle(o.name, o.kind, o.dims, world @ pose))
             obstacles = tuple(obstacles)
             target = obstacles[names.index(fam.targets[rng.integers(len(fam.targets))])]
