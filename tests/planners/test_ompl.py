@@ -51,14 +51,14 @@ def _dense(positions: np.ndarray, step: float) -> np.ndarray:
     return np.asarray(out)
 
 
-def _assert_collision_free_at(scene: PlanningScene, traj, step: float) -> None:
+def _assert_collision_free_at(scene: PlanningScene, traj, step: float, group: str = ARM) -> None:
     """Every state along the trajectory's polyline, ``step`` apart, is collision-free."""
-    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
+    idx = scene.robot_model.get_joint_model_group(group).variable_indices
     base = traj[0].positions.copy()
     dense = _dense(traj.positions, step)
     Q = np.repeat(base[None, :], len(dense), axis=0)
     Q[:, idx] = dense
-    valid = scene.check_states(Q, ARM)
+    valid = scene.check_states(Q, group)
     assert valid.all(), f"{(~valid).sum()} of {len(Q)} states collide"
 
 
@@ -555,6 +555,44 @@ def test_continuous_joints_start_at_the_start_values():
     np.testing.assert_allclose(traj[0].positions, start.positions)
     assert traj[-1].distance(goal, "group") == pytest.approx(0.0, abs=1e-9)
     assert np.abs(np.diff(traj.positions, axis=0)).max() < 0.5  # no jump of a full turn
+
+
+def test_plans_for_another_arm_around_an_obstacle():
+    """A UR5 (example-robot-data, joint-limited; three parallel axes and link offsets, unlike
+    the Panda) swings its shoulder from -1 to +1 rad past a block in the way: the path goes
+    around it, is free at 1 mrad steps, and a seed gives one path."""
+    import os
+
+    import mtc
+    from mtc.scene.robot_model import default_package_dirs
+
+    urdf = os.path.join(default_package_dirs()[0], "example-robot-data", "robots", "ur_description", "urdf",
+                        "ur5_joint_limited_robot.urdf")
+    links = ["base_link", "shoulder_link", "upper_arm_link", "forearm_link", "wrist_1_link", "wrist_2_link",
+             "wrist_3_link", "ee_link"]
+    srdf = '<robot name="ur5"><group name="manipulator"><chain base_link="base_link" tip_link="tool0"/></group>'
+    srdf += "".join(f'<disable_collisions link1="{a}" link2="{b}" reason="Adjacent"/>' for a, b in zip(links, links[1:]))
+    scene = PlanningScene(mtc.RobotModel(urdf, srdf + "</robot>"))
+    scene.apply_collision_object(msgs.CollisionObject(
+        id="block", header=msgs.Header(frame_id="world"), operation=msgs.CollisionObject.ADD,
+        primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.3, 0.3, 0.3])],
+        primitive_poses=[msgs.Pose(position=msgs.Point(x=0.55, y=0.0, z=0.2), orientation=msgs.Quaternion(w=1.0))]))
+
+    def state(pan: float) -> RobotState:
+        st = scene.current_state.copy()
+        st.set_variable_positions({"shoulder_pan_joint": pan, "shoulder_lift_joint": -0.6, "elbow_joint": 1.2,
+                                   "wrist_1_joint": -2.2, "wrist_2_joint": -1.57, "wrist_3_joint": 0.0})
+        return st
+
+    start, goal = state(-1.0), state(1.0)
+    assert ("upper_arm_link", "block") in scene.get_collisions(state(0.0))  # the straight way is blocked
+    result, traj = OMPLPipeline().plan_joint(scene, start, goal, "manipulator", timeout=5.0, seed=0)
+    assert result, result.message
+    np.testing.assert_allclose(traj[0].positions, start.positions)
+    assert traj[-1].distance(goal, "manipulator") == pytest.approx(0.0, abs=1e-4)
+    _assert_collision_free_at(scene, traj, 1e-3, "manipulator")
+    again = OMPLPipeline().plan_joint(scene, start, goal, "manipulator", timeout=5.0, seed=0)[1]
+    np.testing.assert_array_equal(again.positions, traj.positions)
 
 
 _PointerURDF = """<robot name="pointer">
