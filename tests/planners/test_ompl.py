@@ -579,10 +579,8 @@ def test_plans_for_another_arm_around_an_obstacle():
         primitive_poses=[msgs.Pose(position=msgs.Point(x=0.55, y=0.0, z=0.2), orientation=msgs.Quaternion(w=1.0))]))
 
     def state(pan: float) -> RobotState:
-        st = scene.current_state.copy()
-        st.set_variable_positions({"shoulder_pan_joint": pan, "shoulder_lift_joint": -0.6, "elbow_joint": 1.2,
-                                   "wrist_1_joint": -2.2, "wrist_2_joint": -1.57, "wrist_3_joint": 0.0})
-        return st
+        return _state(scene, shoulder_pan_joint=pan, shoulder_lift_joint=-0.6, elbow_joint=1.2, wrist_1_joint=-2.2,
+                      wrist_2_joint=-1.57, wrist_3_joint=0.0)
 
     start, goal = state(-1.0), state(1.0)
     assert ("upper_arm_link", "block") in scene.get_collisions(state(0.0))  # the straight way is blocked

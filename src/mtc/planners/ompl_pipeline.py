@@ -1417,12 +1417,12 @@ class OMPLPipeline:
         with their trees from turn to turn. Budgets count state checks, not time, so a seed
         still gives one result."""
         limit = None if max_checks is None else req.checker.states_checked + max_checks
-        if cls_name != "RRTConnect" or FALLBACK_PLANNER not in _PLANNERS.values():
-            path, message, cut = self._ompl_once(req, x_start, goals, cls_name, seed, share, max_checks)
-            return path, (_out_of_checks(max_checks, cls_name) if cut else message)
         runs = [_OMPLRun(req, x_start, goals, cls_name, seed, self.planner_range)]
-        turn = 0
         try:
+            if cls_name != "RRTConnect" or FALLBACK_PLANNER not in _PLANNERS.values():
+                path, message, cut = runs[0].solve(share, max_checks)
+                return path, (_out_of_checks(max_checks, cls_name) if cut else message)
+            turn = 0
             while True:
                 # RRTConnect: B, 4B, 16B, ...; the fallback: S B, 4 S B, ... (B = FALLBACK_CHECKS)
                 budget = FALLBACK_CHECKS * 4 ** (turn // 2) * (FALLBACK_SHARE if turn % 2 else 1)
@@ -1447,15 +1447,6 @@ class OMPLPipeline:
         finally:
             for run in runs:
                 run.release()
-
-    def _ompl_once(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
-                   share, budget: int | None):
-        """A fresh run of an OMPL planner (see :meth:`_OMPLRun.solve`)."""
-        run = _OMPLRun(req, x_start, goals, cls_name, seed, self.planner_range)
-        try:
-            return run.solve(share, budget)
-        finally:
-            run.release()
 
     # ------------------------------------------------------------------ constrained
     def _run_constrained(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
