@@ -109,3 +109,20 @@ def test_generated_ik_start_is_a_collision_free_ik_solution():
     np.testing.assert_allclose(start.get_global_link_transform("panda_hand"), pose, atol=1e-4)
     table = next(o for o in p.obstacles if o.name == "table_top").pose
     assert start.get_global_link_transform("panda_hand")[2, 3] < table[2, 3] - 0.25  # under the table
+
+
+def test_a_goal_deep_in_a_narrow_passage_is_reached_by_partial_motions():
+    """table_under_pick/0003 of problem seed 2: the hand reaches for a can with link 6 and 7 a
+    few millimetres from other objects, and none of 16 random 0.2 rad moves from the goal is
+    free. RRTConnect's trees stay stuck there; LBKPIECE1, from its second turn on, keeps the
+    free part of its blocked motions (``FALLBACK_PARTIAL_TURN``) and creeps out. With whole
+    motions only, this took 179k checks at seed 0 (57k-583k over seeds 0-5)."""
+    model = motion_bench.mtc.robots.panda()
+    is_valid, solve_ik = motion_bench.mtc_goal_tools(model)
+    problem = motion_bench.generated_problems("table_under_pick", 3, 2, is_valid=is_valid, solve_ik=solve_ik)[2]
+    assert problem.name == "table_under_pick/0003"
+    pipeline = motion_bench.OMPLPipeline()
+    r = motion_bench.run_mtc(model, problem, 10.0, 0, pipeline)
+    assert r["success"] and r["dense_free"], r["status"]
+    assert pipeline.last_stats.planner == "LBKPIECE1"
+    assert r["checks"] < 120_000

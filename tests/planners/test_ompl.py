@@ -129,22 +129,26 @@ def test_stuck_rrtconnect_alternates_with_the_fallback_and_both_keep_their_trees
             super().__init__(req, x_start, goals, cls_name, *args)
             made.append(cls_name)
 
-        def solve(self, share, budget):
-            solves.append((self.cls_name, id(self), budget))
-            return super().solve(share, budget)
+        def solve(self, share, budget, partial=False):
+            solves.append((self.cls_name, id(self), budget, partial))
+            return super().solve(share, budget, partial)
 
     monkeypatch.setattr(op, "_OMPLRun", Recording)
     pipeline = OMPLPipeline()
     result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=20.0, seed=3)
     assert result, result.message
-    assert len(solves) >= 3  # cut at least twice
+    assert len(solves) >= 4  # cut at least three times
     share = op.FALLBACK_SHARE
-    assert [budget for _, _, budget in solves] == [4 ** (k // 2) * (share if k % 2 else 1) for k in range(len(solves))]
-    assert [name for name, _, _ in solves] == ["RRTConnect", op.FALLBACK_PLANNER] * (len(solves) // 2) + (
+    assert [budget for _, _, budget, _ in solves] == [4 ** (k // 2) * (share if k % 2 else 1)
+                                                      for k in range(len(solves))]
+    assert [name for name, *_ in solves] == ["RRTConnect", op.FALLBACK_PLANNER] * (len(solves) // 2) + (
         ["RRTConnect"] if len(solves) % 2 else [])
+    # the fallback keeps the free part of blocked motions from its FALLBACK_PARTIAL_TURN-th turn
+    assert [partial for *_, partial in solves] == [k % 2 == 1 and k // 2 >= op.FALLBACK_PARTIAL_TURN
+                                                   for k in range(len(solves))]
     assert made == ["RRTConnect", op.FALLBACK_PLANNER]
-    assert len({i for name, i, _ in solves if name == "RRTConnect"}) == 1
-    assert len({i for name, i, _ in solves if name == op.FALLBACK_PLANNER}) == 1
+    assert len({i for name, i, *_ in solves if name == "RRTConnect"}) == 1
+    assert len({i for name, i, *_ in solves if name == op.FALLBACK_PLANNER}) == 1
     assert pipeline.last_stats.planner == solves[-1][0]
     _assert_collision_free_at(scene, traj, 0.005)
     made.clear()
@@ -219,6 +223,41 @@ def test_kpiece_planners_project_onto_the_groups_first_two_joints(blocked, plann
         out = np.zeros(2)
         projection.project(run._state(space, x), out)
         np.testing.assert_array_equal(out, x[:2])
+    finally:
+        run.release()
+
+
+def test_partial_motions_are_checked_by_ompls_validator_at_the_search_spacing(blocked):
+    """``solve(partial=True)`` hands the planner's motions to OMPL's own validator (the one that
+    can tell how far a blocked motion is free), on the same state checks: a motion through the
+    box is rejected, a free one is checked at states no farther apart than the search's."""
+    pipeline, req, a, b = _blocked_request(blocked)
+    checker = req.checker
+    run = op._OMPLRun(req, a, [b], "LBKPIECE1", 0, pipeline.planner_range)
+    try:
+        si, space = run._objects[2], run._objects[3]
+        assert isinstance(si.getMotionValidator(), op._MotionValidator)
+        run.solve(None, 20, partial=False)
+        assert isinstance(si.getMotionValidator(), op._MotionValidator)
+        run.solve(None, 20, partial=True)
+        assert not isinstance(si.getMotionValidator(), op._MotionValidator)
+        assert not si.checkMotion(run._state(space, a), run._state(space, b))
+        c = a.copy()
+        c[5] += 0.5  # the wrist: free
+        before = checker.states_checked
+        assert si.checkMotion(run._state(space, a), run._state(space, c))
+        assert checker.states_checked - before == math.ceil(0.5 / checker.coarse)
+    finally:
+        run.release()
+
+
+def test_partial_motions_are_not_used_when_edges_are_checked_in_full(blocked):
+    pipeline, req, a, b = _blocked_request(blocked)
+    req.checker.search_fine = True
+    run = op._OMPLRun(req, a, [b], "LBKPIECE1", 0, pipeline.planner_range)
+    try:
+        run.solve(None, 20, partial=True)
+        assert isinstance(run._objects[2].getMotionValidator(), op._MotionValidator)
     finally:
         run.release()
 
