@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
 import subprocess
 import sys
@@ -208,14 +209,25 @@ def _blocked_request(blocked):
     return pipeline, req, start.positions[idx], goal.positions[idx]
 
 
+@contextlib.contextmanager
+def _blocked_run(blocked, planner: str, search_fine: bool = False):
+    """One OMPL planner set up on the ``blocked`` problem (released after):
+    (run, request, start x, goal x)."""
+    pipeline, req, a, b = _blocked_request(blocked)
+    req.checker.search_fine = search_fine
+    run = op._OMPLRun(req, a, [b], planner, 0, pipeline.planner_range)
+    try:
+        yield run, req, a, b
+    finally:
+        run.release()
+
+
 @pytest.mark.parametrize("planner", ["KPIECE1", "LBKPIECE1", "BKPIECE1"])
 def test_kpiece_planners_project_onto_the_groups_first_two_joints(blocked, planner):
     """As MoveIt's Panda configuration has it (``projection_evaluator:
     joints(panda_joint1,panda_joint2)``; OMPL's own default for a 7-dimensional space is a
     random linear projection)."""
-    pipeline, req, a, b = _blocked_request(blocked)
-    run = op._OMPLRun(req, a, [b], planner, 0, pipeline.planner_range)
-    try:
+    with _blocked_run(blocked, planner) as (run, *_):
         projection = run._objects[1].getProjectionEvaluator()
         space = run._objects[3]
         assert projection.getDimension() == 2
@@ -223,18 +235,14 @@ def test_kpiece_planners_project_onto_the_groups_first_two_joints(blocked, plann
         out = np.zeros(2)
         projection.project(run._state(space, x), out)
         np.testing.assert_array_equal(out, x[:2])
-    finally:
-        run.release()
 
 
 def test_partial_motions_are_checked_by_ompls_validator_at_the_search_spacing(blocked):
     """``solve(partial=True)`` hands the planner's motions to OMPL's own validator (the one that
     can tell how far a blocked motion is free), on the same state checks: a motion through the
     box is rejected, a free one is checked at states no farther apart than the search's."""
-    pipeline, req, a, b = _blocked_request(blocked)
-    checker = req.checker
-    run = op._OMPLRun(req, a, [b], "LBKPIECE1", 0, pipeline.planner_range)
-    try:
+    with _blocked_run(blocked, "LBKPIECE1") as (run, req, a, b):
+        checker = req.checker
         si, space = run._objects[2], run._objects[3]
         assert isinstance(si.getMotionValidator(), op._MotionValidator)
         run.solve(None, 20, partial=False)
@@ -247,19 +255,12 @@ def test_partial_motions_are_checked_by_ompls_validator_at_the_search_spacing(bl
         before = checker.states_checked
         assert si.checkMotion(run._state(space, a), run._state(space, c))
         assert checker.states_checked - before == math.ceil(0.5 / checker.coarse)
-    finally:
-        run.release()
 
 
 def test_partial_motions_are_not_used_when_edges_are_checked_in_full(blocked):
-    pipeline, req, a, b = _blocked_request(blocked)
-    req.checker.search_fine = True
-    run = op._OMPLRun(req, a, [b], "LBKPIECE1", 0, pipeline.planner_range)
-    try:
+    with _blocked_run(blocked, "LBKPIECE1", search_fine=True) as (run, *_):
         run.solve(None, 20, partial=True)
         assert isinstance(run._objects[2].getMotionValidator(), op._MotionValidator)
-    finally:
-        run.release()
 
 
 @pytest.mark.parametrize("planner", ["RRTkConfigDefault", "LBKPIECEkConfigDefault", "PRMkConfigDefault",

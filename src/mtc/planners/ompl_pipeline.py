@@ -41,7 +41,8 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    after :data:`FALLBACK_CHECKS` state checks takes turns with :data:`FALLBACK_PLANNER`
    (LBKPIECE1, which checks lazily: only the edges of paths that join start and goal), both
    going on with their trees and the budgets growing each turn: a start or goal in a trap
-   keeps RRTConnect's trees stuck for seconds. Planners that grid a projection of the space
+   keeps RRTConnect's trees stuck for seconds. From its second turn on the fallback keeps the
+   free part of a blocked motion (OMPL's own motion validator then). Planners that grid a projection of the space
    (the KPIECE family) project onto the group's first two joints, as MoveIt's Panda
    configuration does (``projection_evaluator: joints(panda_joint1,panda_joint2)``).
 5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
