@@ -13,6 +13,7 @@ import pytest
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from bench import motion_bench  # noqa: E402
+from mtc.planners import ompl_pipeline as op  # noqa: E402
 
 
 def _have_pyroboplan() -> bool:
@@ -111,18 +112,52 @@ def test_generated_ik_start_is_a_collision_free_ik_solution():
     assert start.get_global_link_transform("panda_hand")[2, 3] < table[2, 3] - 0.25  # under the table
 
 
-def test_a_goal_deep_in_a_narrow_passage_is_reached_by_partial_motions():
-    """table_under_pick/0003 of problem seed 2: the hand reaches for a can with link 6 and 7 a
-    few millimetres from other objects, and none of 40 random 0.2 rad moves from the goal is
-    free. RRTConnect's trees stay stuck there; LBKPIECE1, from its second turn on, keeps the
-    free part of its blocked motions (``FALLBACK_PARTIAL_TURN``) and creeps out. With whole
-    motions only, this took 179k checks at seed 0 (56k-583k over seeds 0-5)."""
+@pytest.fixture(scope="module")
+def narrow_passage():
+    """table_under_pick/0003 of problem seed 2: (model, problem). The hand reaches for a can
+    with link 6 and 7 a few millimetres from other objects, and none of 40 random 0.2 rad moves
+    from the goal is free."""
     model = motion_bench.mtc.robots.panda()
     is_valid, solve_ik = motion_bench.mtc_goal_tools(model)
     problem = motion_bench.generated_problems("table_under_pick", 3, 2, is_valid=is_valid, solve_ik=solve_ik)[2]
     assert problem.name == "table_under_pick/0003"
+    return model, problem
+
+
+def test_a_goal_deep_in_a_narrow_passage_is_reached_by_partial_motions(narrow_passage):
+    """RRTConnect's trees stay stuck at this goal; LBKPIECE1, projecting onto the hand's
+    position near the wedged goal (``WEDGED_GOAL_FREE``) and from its second turn on keeping
+    the free part of its blocked motions (``FALLBACK_PARTIAL_TURN``), creeps out: 28k checks at
+    seed 0 (14k-52k over seeds 0-5). With the joint projection it took 68k, with whole motions
+    only 179k (56k-583k over seeds 0-5)."""
+    model, problem = narrow_passage
     pipeline = motion_bench.OMPLPipeline()
     r = motion_bench.run_mtc(model, problem, 10.0, 0, pipeline)
     assert r["success"] and r["dense_free"], r["status"]
     assert pipeline.last_stats.planner == "LBKPIECE1"
-    assert r["checks"] < 120_000
+    assert r["checks"] < 50_000
+
+
+def test_a_wedged_goal_gives_the_fallback_the_tips_position_jacobian(narrow_passage):
+    """The probe of 32 moves finds the goal wedged and returns the tip's position Jacobian
+    there (a small joint move moves panda_link8 by it); the start, with free moves around it,
+    keeps the joint projection after a few probes."""
+    model, problem = narrow_passage
+    scene = motion_bench.build_scene(model, problem.obstacles, problem.allowed_collisions,
+                                     motion_bench.finger_opening(problem))
+    start, goal = motion_bench.problem_states(scene, problem)
+    req, failure = motion_bench.OMPLPipeline()._prepare(scene, start, problem.group, 5.0, None)
+    assert failure is None
+    checks = req.checker.states_checked
+    projection = op._wedged_goal_projection(req, problem.goal_arm())
+    assert req.checker.states_checked - checks == op.WEDGED_GOAL_PROBES
+    assert projection.shape == (3, 7)
+    (tip,) = req.group.ik_tips
+    dx = np.random.default_rng(1).normal(size=7) * 1e-6
+    moved = goal.copy()
+    moved.set_joint_group_positions(problem.group, problem.goal_arm() + dx)
+    shift = moved.get_global_link_transform(tip)[:3, 3] - goal.get_global_link_transform(tip)[:3, 3]
+    np.testing.assert_allclose(projection @ dx, shift, atol=1e-11)
+    checks = req.checker.states_checked
+    assert op._wedged_goal_projection(req, problem.start_arm()) is None
+    assert req.checker.states_checked - checks == op.WEDGED_GOAL_FREE + 1  # stops at the third free move

@@ -210,12 +210,12 @@ def _blocked_request(blocked):
 
 
 @contextlib.contextmanager
-def _blocked_run(blocked, planner: str, search_fine: bool = False):
+def _blocked_run(blocked, planner: str, search_fine: bool = False, projection=None):
     """One OMPL planner set up on the ``blocked`` problem (released after):
     (run, request, start x, goal x)."""
     pipeline, req, a, b = _blocked_request(blocked)
     req.checker.search_fine = search_fine
-    run = op._OMPLRun(req, a, [b], planner, 0, pipeline.planner_range)
+    run = op._OMPLRun(req, a, [b], planner, 0, pipeline.planner_range, projection)
     try:
         yield run, req, a, b
     finally:
@@ -235,6 +235,20 @@ def test_kpiece_planners_project_onto_the_groups_first_two_joints(blocked, plann
         out = np.zeros(2)
         projection.project(run._state(space, x), out)
         np.testing.assert_array_equal(out, x[:2])
+
+
+def test_a_given_projection_replaces_the_joint_projection(blocked):
+    """The fallback's projection for a wedged goal (a 3 x 7 matrix, see
+    ``_wedged_goal_projection``) is the planner's; the goal of ``blocked`` is not wedged."""
+    matrix = np.random.default_rng(3).normal(size=(3, 7))
+    with _blocked_run(blocked, "LBKPIECE1", projection=matrix) as (run, req, a, b):
+        projection = run._objects[1].getProjectionEvaluator()
+        assert projection.getDimension() == 3
+        x = np.array([0.3, -0.4, 0.5, -2.0, 0.1, 1.5, 0.7])
+        out = np.zeros(3)
+        projection.project(run._state(run._objects[3], x), out)
+        np.testing.assert_allclose(out, matrix @ x, rtol=1e-12)
+        assert op._wedged_goal_projection(req, b) is None
 
 
 def test_partial_motions_are_checked_by_ompls_validator_at_the_search_spacing(blocked):

@@ -44,7 +44,8 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    keeps RRTConnect's trees stuck for seconds. From its second turn on the fallback keeps the
    free part of a blocked motion (OMPL's own motion validator then). Planners that grid a projection of the space
    (the KPIECE family) project onto the group's first two joints, as MoveIt's Panda
-   configuration does (``projection_evaluator: joints(panda_joint1,panda_joint2)``).
+   configuration does (``projection_evaluator: joints(panda_joint1,panda_joint2)``); the
+   fallback, where the goal is wedged, onto the tip link's position near the goal.
 5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
    points on the path, bounded by counts so that a seed gives one result), then
    interpolated to waypoints at most ``maximum extent / 100`` apart (at least
@@ -81,6 +82,7 @@ import numpy as np
 import ompl.base as ob
 import ompl.geometric as og
 import ompl.util as ou
+import pinocchio as pin
 
 from mtc import msgs
 from mtc.planners.constraints import ConstraintEvaluator, KinematicConstraintSet
@@ -174,6 +176,20 @@ FALLBACK_SHARE = 8
 #: turn on it also cost 60-100% more checks on the generated cage problems, which that turn
 #: mostly solves.
 FALLBACK_PARTIAL_TURN = 1
+#: A goal is wedged when at most :data:`WEDGED_GOAL_FREE` of :data:`WEDGED_GOAL_PROBES` random
+#: moves of :data:`WEDGED_GOAL_STEP` rad (Euclidean) from it are valid (the moves are drawn from
+#: a fixed seed: whether a goal is wedged belongs to the problem, not to the planner's seed).
+#: The fallback then projects onto the tip link's position as it moves near the goal (the
+#: group's position Jacobian there: MoveIt's ``link(...)`` projection, linearised) instead of
+#: the first two joints, so its goal tree spreads over the hand's positions and finds the few
+#: ways out of a shelf or from under a table. The eight slowest generated problems known took
+#: 18% fewer checks (12 seeds), and the one failure among those 96 runs was gone; on 1,164
+#: held-out runs the largest cases shrank (63k to 13k checks) and some mid-sized ones grew
+#: (4k to 11k), 1.8% fewer checks in all. For every goal it cost 46% more on the generated
+#: cage problems, where the joints project better.
+WEDGED_GOAL_PROBES = 32
+WEDGED_GOAL_STEP = 0.2
+WEDGED_GOAL_FREE = 2
 
 #: Time budget [s] of a request whose timeout is infinite (MoveIt's default planning time).
 UNBOUNDED_TIMEOUT = 5.0
@@ -1424,8 +1440,9 @@ class OMPLPipeline:
         the edges of a path that joins start and goal) gets :data:`FALLBACK_SHARE` times as
         many, then RRTConnect again with four times its first budget, and so on. Both go on
         with their trees from turn to turn; from :data:`FALLBACK_PARTIAL_TURN` on, the fallback
-        keeps the free part of its blocked motions. Budgets count state checks, not time, so a
-        seed still gives one result."""
+        keeps the free part of its blocked motions, and where the goal is wedged it projects
+        onto the tip's position there (:func:`_wedged_goal_projection`). Budgets count state
+        checks, not time, so a seed still gives one result."""
         limit = None if max_checks is None else req.checker.states_checked + max_checks
         runs = [_OMPLRun(req, x_start, goals, cls_name, seed, self.planner_range)]
         try:
@@ -1441,7 +1458,8 @@ class OMPLPipeline:
                         return None, _out_of_checks(max_checks, f"{cls_name}, {FALLBACK_PLANNER}")
                     budget = min(budget, limit - req.checker.states_checked)
                 if turn == 1:
-                    runs.append(_OMPLRun(req, x_start, goals, FALLBACK_PLANNER, seed + 104729, self.planner_range))
+                    runs.append(_OMPLRun(req, x_start, goals, FALLBACK_PLANNER, seed + 104729, self.planner_range,
+                                         _wedged_goal_projection(req, goals[0])))
                 run = runs[turn % 2]
                 name = run.cls_name
                 partial = turn % 2 == 1 and turn // 2 >= FALLBACK_PARTIAL_TURN
@@ -1466,13 +1484,37 @@ class OMPLPipeline:
                                         max_checks)
 
 
+def _wedged_goal_projection(req: _Request, goal: np.ndarray) -> np.ndarray | None:
+    """The fallback's projection for a wedged ``goal`` (see :data:`WEDGED_GOAL_FREE`): the
+    position Jacobian (3 x k, world axes) of the group's IK tip at the goal. None (the first two
+    joints) where the goal is not wedged, the group has no tip or at most three variables, or
+    the tip cannot move in all three directions there. The probes count as state checks."""
+    group = req.group
+    k = group.variable_count
+    if k <= 3 or not group.ik_tips:
+        return None
+    moves = np.random.default_rng(0).normal(size=(WEDGED_GOAL_PROBES, k))
+    moves *= WEDGED_GOAL_STEP / np.linalg.norm(moves, axis=1)[:, None]
+    free = 0
+    for move in moves:
+        free += req.checker.state_ok(np.clip(goal + move, req.lower, req.upper))
+        if free > WEDGED_GOAL_FREE:
+            return None
+    model = req.scene.robot_model
+    pm = model.pinocchio_model
+    jacobian = pin.computeFrameJacobian(pm, pm.createData(), req.checker.full(goal),
+                                        model.frame_id(group.ik_tips[0]), pin.LOCAL_WORLD_ALIGNED)
+    position = np.ascontiguousarray(jacobian[:3, group.variable_indices])
+    return position if np.linalg.matrix_rank(position) == 3 else None
+
+
 class _OMPLRun:
     """One OMPL planner on one request, set up once: :meth:`solve` may be called again (with a
     new budget) and goes on with the planner's trees. :meth:`release` frees the OMPL objects
     (nanobind reports those still alive at exit)."""
 
     def __init__(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
-                 planner_range: float):
+                 planner_range: float, projection: np.ndarray | None = None):
         self.req = req
         self.cls_name = cls_name
         k = req.group.variable_count
@@ -1508,7 +1550,10 @@ class _OMPLRun:
                     goal_states.addState(self._state(space, g))
                 ss.setGoal(goal_states)
             planner = getattr(og, cls_name)(si)
-            if k > 2 and hasattr(planner, "setProjectionEvaluator"):
+            if projection is not None and hasattr(planner, "setProjectionEvaluator"):
+                # a linear map of the group's variables (see _wedged_goal_projection)
+                planner.setProjectionEvaluator(ob.RealVectorLinearProjectionEvaluator(space, projection))
+            elif k > 2 and hasattr(planner, "setProjectionEvaluator"):
                 # the KPIECE family and the other planners that grid a projection of the space:
                 # the group's first two joints, as MoveIt's Panda configuration has it (for an
                 # arm the ones that move the most; OMPL's default is a random linear projection)
