@@ -42,10 +42,11 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    (LBKPIECE1, which checks lazily: only the edges of paths that join start and goal), both
    going on with their trees and the budgets growing each turn: a start or goal in a trap
    keeps RRTConnect's trees stuck for seconds. From its second turn on the fallback keeps the
-   free part of a blocked motion (OMPL's own motion validator then). Planners that grid a projection of the space
-   (the KPIECE family) project onto the group's first two joints, as MoveIt's Panda
-   configuration does (``projection_evaluator: joints(panda_joint1,panda_joint2)``); the
-   fallback, where the goal is wedged, onto the tip link's position near the goal.
+   free part of a blocked motion (OMPL's own motion validator then). Planners that grid a
+   projection of the space (the KPIECE family) project onto the group's first two joints, as
+   MoveIt's Panda configuration does (``projection_evaluator:
+   joints(panda_joint1,panda_joint2)``); the fallback, where the goal is wedged, onto the tip
+   link's position near the goal.
 5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
    points on the path, bounded by counts so that a seed gives one result), then
    interpolated to waypoints at most ``maximum extent / 100`` apart (at least
@@ -82,7 +83,6 @@ import numpy as np
 import ompl.base as ob
 import ompl.geometric as og
 import ompl.util as ou
-import pinocchio as pin
 
 from mtc import msgs
 from mtc.planners.constraints import ConstraintEvaluator, KinematicConstraintSet
@@ -1500,11 +1500,9 @@ def _wedged_goal_projection(req: _Request, goal: np.ndarray) -> np.ndarray | Non
         free += req.checker.state_ok(np.clip(goal + move, req.lower, req.upper))
         if free > WEDGED_GOAL_FREE:
             return None
-    model = req.scene.robot_model
-    pm = model.pinocchio_model
-    jacobian = pin.computeFrameJacobian(pm, pm.createData(), req.checker.full(goal),
-                                        model.frame_id(group.ik_tips[0]), pin.LOCAL_WORLD_ALIGNED)
-    position = np.ascontiguousarray(jacobian[:3, group.variable_indices])
+    at_goal = req.start.copy()
+    at_goal.positions = req.checker.full(goal)
+    position = np.ascontiguousarray(at_goal.get_jacobian(group.name, group.ik_tips[0])[:3])
     return position if np.linalg.matrix_rank(position) == 3 else None
 
 
