@@ -107,6 +107,32 @@ def test_clear_is_a_distance_test(scene):
     assert checker.free(q)
 
 
+def test_sort_out_checks_rows_in_order_and_stops_at_a_collision(scene):
+    """``sort_out``: clear rows pass, rows within their margins but free are listed, the first
+    colliding row ends the run (as ``-1 - index``), and the plain checks see no margins after."""
+    _cluttered(scene)
+    checker = scene.motion_checker(ARM)
+    q = scene.current_state.positions.copy()
+    distance = scene.distance_to_collision(scene.current_state, ARM)
+    world = np.array([kind == "world" for kind in scene._collision_env().kinds])
+    margins = np.where(world[:, None] ^ world[None, :], 1.1 * distance, 0.0)
+    far = q.copy()
+    far[0] += 0.02  # joint 1 keeps the arm's distance to the boxes about the same
+    colliding = q.copy()
+    colliding[1] = 1.2  # the arm reaches down through the front board
+    assert not checker.free(colliding)
+    rng = np.random.default_rng(2)
+    lo, hi = scene.robot_model.lower_bounds, scene.robot_model.upper_bounds
+    clear = next(c for c in (rng.uniform(lo, hi) for _ in range(200)) if checker.clear(c, margins))
+    Q = np.array([clear, q, far, colliding, q])
+    rows, checks = checker.sort_out(Q, margins)
+    assert rows == [1, 2, -4]  # the last row is never checked
+    assert checks == 1 + 2 + 2 + 2
+    assert checker.sort_out(Q[:3], margins) == ([1, 2], 5)
+    assert checker.sort_out(Q[:1], margins) == ([], 1)
+    assert checker.free(q) and checker.clear(q, np.zeros_like(margins))  # margins reset
+
+
 def _dense_free(checker: MotionChecker, qa, qb, step: float) -> bool:
     n = max(1, math.ceil(float(np.abs(qb - qa).max()) / step))
     return all(checker.free(qa + (k / n) * (qb - qa)) for k in range(n + 1))

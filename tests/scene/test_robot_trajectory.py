@@ -177,6 +177,12 @@ def test_from_positions(panda, start):
     assert traj[1].positions[7] == pytest.approx(0.035)  # the hand from the reference
 
 
+def test_from_positions_needs_a_time_per_row(panda, start):
+    rows = np.tile(start.positions[:7], (3, 1))
+    with pytest.raises(ValueError, match="times must have 3 values"):
+        RobotTrajectory.from_positions(panda, "panda_arm", start, rows, times=[0.0, 1.0])
+
+
 def test_msg(panda, start):
     """get_robot_trajectory_msg: the group's joints, positions, times, velocities when known."""
     traj = sweep(panda, start, n=3)

@@ -639,19 +639,10 @@ class _EdgeChecker:
         n = self._coarse_segments(d)
         qa, qb = self.full(a), self.full(b)
         margins = motion.margins(qb - qa) * (0.5 / n)
-        pending = []
-        checks = 0
-        ok = True
-        for j in self._order(n) - 1:  # intervals j = n-1 (at b) first, then by bisection
-            q = qa + ((j + 0.5) / n) * (qb - qa)
-            checks += 1
-            if motion.clear(q, margins):
-                continue
-            checks += 1
-            if not motion.free(q):
-                ok = False
-                break
-            pending.append(int(j))
+        order = self._order(n) - 1  # intervals j = n-1 (at b) first, then by bisection
+        rows, checks = motion.sort_out(qa + ((order + 0.5) / n)[:, None] * (qb - qa), margins)
+        ok = not rows or rows[-1] >= 0
+        pending = order[rows].tolist() if ok else []
         if ok and pending:
             children = [c for j in sorted(pending) for c in (2 * j, 2 * j + 1)]
             ok, more = motion.motion_free(qa, qb, 2 * n, CERTIFY_MIN_MARGIN, CERTIFY_FREE_CHECK, children)
@@ -840,7 +831,7 @@ def _interpolate(path: np.ndarray, checker: _EdgeChecker, max_segment: float, mi
         # add pieces to the longest edge per piece until the count is reached
         k = int(np.argmax(seg / pieces))
         pieces[k] += 1
-    out = [path[0]]
+    out = [np.asarray(path[:1], dtype=float)]
     for i in range(len(path) - 1):
         a, b = path[i], path[i + 1]
         n_check = checker.segments(a, b)
@@ -848,11 +839,11 @@ def _interpolate(path: np.ndarray, checker: _EdgeChecker, max_segment: float, mi
         # piece is longer than the requested one
         stride = max(1, n_check // int(pieces[i]))
         m = math.ceil(n_check / stride)
-        for j in range(1, m + 1):
-            t = math.ceil(j * n_check / m) / n_check
-            out.append(a + t * (b - a))
-        out[-1] = b.copy()
-    return np.asarray(out)
+        t = np.ceil(np.arange(1, m + 1) * n_check / m) / n_check
+        states = a + t[:, None] * (b - a)
+        states[-1] = b
+        out.append(states)
+    return np.concatenate(out)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -612,6 +612,40 @@ class MotionChecker:
         finally:
             gd.setSecurityMargins(gm, self._plain_margins, True, True)
 
+    def sort_out(self, Q: np.ndarray, margins: np.ndarray) -> tuple[list[int], int]:
+        """The rows of ``Q`` (full variable vectors) checked in order for a clearance of
+        ``margins`` (as :meth:`clear`), each one that is not clear also for a collision at once.
+
+        Returns:
+            ``(not clear, checks)``: the indices of the rows that are not clear but
+            collision-free, and the number of checks made (one per row, one more per row not
+            clear); stops at the first row in collision, whose index is then the last one of
+            the list, negated minus one (``-1 - i``).
+        """
+        gd, gm, plain = self._gd, self._gm, self._plain_margins
+        clearance = np.maximum(margins, CONTACT_MARGIN)
+        compute, pm, data, manager = self._compute, self._pm, self._data, self._manager
+        out: list[int] = []
+        checks = 0
+        # the margins are set once for the run of rows, not once per row: setting them costs
+        # about as much as a third of a check
+        gd.setSecurityMargins(gm, clearance, True, True)
+        try:
+            for i, q in enumerate(Q):
+                checks += 1
+                if not compute(pm, data, manager, q, True):
+                    continue
+                checks += 1
+                gd.setSecurityMargins(gm, plain, True, True)
+                if compute(pm, data, manager, q, True):
+                    out.append(-1 - i)
+                    return out, checks
+                out.append(i)
+                gd.setSecurityMargins(gm, clearance, True, True)
+        finally:
+            gd.setSecurityMargins(gm, plain, True, True)
+        return out, checks
+
     def motion_free(self, qa: np.ndarray, qb: np.ndarray, n: int = 1, min_margin: float = 1e-6,
                     free_check: float = 1e-2, intervals=None) -> tuple[bool, int]:
         """Whether every state of the straight motion from ``qa`` to ``qb`` (full variable

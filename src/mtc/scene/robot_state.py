@@ -190,11 +190,13 @@ class RobotState:
         other._attached_frames = self._attached_frames
         return other
 
-    def _with_positions(self, q: np.ndarray) -> RobotState:
+    def _with_positions(self, q: np.ndarray, follow: bool = True) -> RobotState:
         """A state of the same robot at the variable vector ``q`` (taken, not copied; mimic
-        joints made to follow, as the constructor does) that sees the same attached objects
-        as this one (as MoveIt's state copies carry attached bodies)."""
-        self._model.enforce_mimic(q)
+        joints made to follow, as the constructor does, unless ``follow`` is False because
+        they already do) that sees the same attached objects as this one (as MoveIt's state
+        copies carry attached bodies)."""
+        if follow:
+            self._model.enforce_mimic(q)
         other = RobotState.__new__(RobotState)
         other._model = self._model
         other._q = q

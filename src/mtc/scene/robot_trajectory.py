@@ -48,19 +48,25 @@ class RobotTrajectory:
     ) -> RobotTrajectory:
         """A trajectory whose waypoints are ``reference`` (its attached objects included) with
         the group's variables set to the rows of ``positions`` (N x k), at ``times`` from start
-        (default: all 0)."""
+        (default: all 0).
+
+        Raises:
+            ValueError: ``times`` does not have one value per row of ``positions``.
+        """
         traj = cls(robot_model, group_name)
-        idx = traj._group.variable_indices
-        base = reference.positions.copy()
-        times = np.zeros(len(positions)) if times is None else np.asarray(times, dtype=float)
-        previous = 0.0
-        for row, t in zip(np.asarray(positions, dtype=float), times):
-            q = base.copy()
-            q[idx] = row
-            traj.waypoints.append(reference._with_positions(q))
-            traj._durations.append(float(t) - previous)
-            traj._efforts.append(None)
-            previous = float(t)
+        positions = np.asarray(positions, dtype=float)
+        n = len(positions)
+        times = np.zeros(n) if times is None else np.asarray(times, dtype=float)
+        if times.shape != (n,):
+            raise ValueError(f"times must have {n} values (one per row of positions), got shape {times.shape}")
+        # one matrix of full variable vectors, mimic joints set in one go; each waypoint
+        # owns a row of it
+        full = np.repeat(reference.positions[None, :], n, axis=0)
+        full[:, traj._group.variable_indices] = positions
+        robot_model.enforce_mimic(full)
+        traj.waypoints = [reference._with_positions(q, follow=False) for q in full]
+        traj._durations = np.diff(times, prepend=0.0).tolist()
+        traj._efforts = [None] * n
         return traj
 
     # ------------------------------------------------------------------ moveit_py API
