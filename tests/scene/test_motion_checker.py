@@ -109,7 +109,7 @@ def test_clear_is_a_distance_test(scene):
 
 def test_sort_out_checks_rows_in_order_and_stops_at_a_collision(scene):
     """``sort_out``: clear rows pass, rows within their margins but free are listed, the first
-    colliding row ends the run (as ``-1 - index``), and the plain checks see no margins after."""
+    colliding row ends the run, and the plain checks see no margins after."""
     _cluttered(scene)
     checker = scene.motion_checker(ARM)
     q = scene.current_state.positions.copy()
@@ -125,11 +125,9 @@ def test_sort_out_checks_rows_in_order_and_stops_at_a_collision(scene):
     lo, hi = scene.robot_model.lower_bounds, scene.robot_model.upper_bounds
     clear = next(c for c in (rng.uniform(lo, hi) for _ in range(200)) if checker.clear(c, margins))
     Q = np.array([clear, q, far, colliding, q])
-    rows, checks = checker.sort_out(Q, margins)
-    assert rows == [1, 2, -4]  # the last row is never checked
-    assert checks == 1 + 2 + 2 + 2
-    assert checker.sort_out(Q[:3], margins) == ([1, 2], 5)
-    assert checker.sort_out(Q[:1], margins) == ([], 1)
+    assert checker.sort_out(Q, margins) == ([1, 2], 3, 1 + 2 + 2 + 2)  # the last row is never checked
+    assert checker.sort_out(Q[:3], margins) == ([1, 2], -1, 5)
+    assert checker.sort_out(Q[:1], margins) == ([], -1, 1)
     assert checker.free(q) and checker.clear(q, np.zeros_like(margins))  # margins reset
 
 

@@ -640,9 +640,9 @@ class _EdgeChecker:
         qa, qb = self.full(a), self.full(b)
         margins = motion.margins(qb - qa) * (0.5 / n)
         order = self._order(n) - 1  # intervals j = n-1 (at b) first, then by bisection
-        rows, checks = motion.sort_out(qa + ((order + 0.5) / n)[:, None] * (qb - qa), margins)
-        ok = not rows or rows[-1] >= 0
-        pending = order[rows].tolist() if ok else []
+        rows, colliding, checks = motion.sort_out(qa + ((order + 0.5) / n)[:, None] * (qb - qa), margins)
+        ok = colliding < 0
+        pending = order[rows].tolist()
         if ok and pending:
             children = [c for j in sorted(pending) for c in (2 * j, 2 * j + 1)]
             ok, more = motion.motion_free(qa, qb, 2 * n, CERTIFY_MIN_MARGIN, CERTIFY_FREE_CHECK, children)

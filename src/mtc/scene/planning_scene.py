@@ -612,15 +612,15 @@ class MotionChecker:
         finally:
             gd.setSecurityMargins(gm, self._plain_margins, True, True)
 
-    def sort_out(self, Q: np.ndarray, margins: np.ndarray) -> tuple[list[int], int]:
+    def sort_out(self, Q: np.ndarray, margins: np.ndarray) -> tuple[list[int], int, int]:
         """The rows of ``Q`` (full variable vectors) checked in order for a clearance of
         ``margins`` (as :meth:`clear`), each one that is not clear also for a collision at once.
 
         Returns:
-            ``(not clear, checks)``: the indices of the rows that are not clear but
-            collision-free, and the number of checks made (one per row, one more per row not
-            clear); stops at the first row in collision, whose index is then the last one of
-            the list, negated minus one (``-1 - i``).
+            ``(not clear, colliding, checks)``: the indices of the rows that are not clear but
+            collision-free, the index of the first row in collision (the rows after it are not
+            checked) or -1, and the number of checks made (one per row, one more per row not
+            clear).
         """
         gd, gm, plain = self._gd, self._gm, self._plain_margins
         clearance = np.maximum(margins, CONTACT_MARGIN)
@@ -638,13 +638,12 @@ class MotionChecker:
                 checks += 1
                 gd.setSecurityMargins(gm, plain, True, True)
                 if compute(pm, data, manager, q, True):
-                    out.append(-1 - i)
-                    return out, checks
+                    return out, i, checks
                 out.append(i)
                 gd.setSecurityMargins(gm, clearance, True, True)
         finally:
             gd.setSecurityMargins(gm, plain, True, True)
-        return out, checks
+        return out, -1, checks
 
     def motion_free(self, qa: np.ndarray, qb: np.ndarray, n: int = 1, min_margin: float = 1e-6,
                     free_check: float = 1e-2, intervals=None) -> tuple[bool, int]:
