@@ -286,13 +286,9 @@ class PilzPipeline:
         return _Failure(message, Q)
 
     def _trajectory(self, start: RobotState, jmg, Q, times, V, A) -> RobotTrajectory:
-        traj = RobotTrajectory(self.robot_model, jmg.name)
-        previous = 0.0
-        for q, t in zip(Q, times):
-            state = start.copy()
-            state.positions = q
-            traj.add_suffix_waypoint(state, float(t) - previous)
-            previous = float(t)
+        # the rows of Q differ from the start only in the group's variables (and their mimics)
+        Q = np.asarray(Q, dtype=float)
+        traj = RobotTrajectory.from_positions(self.robot_model, jmg.name, start, Q[:, jmg.variable_indices], times)
         traj.velocities = np.asarray(V, dtype=float)
         traj.accelerations = np.asarray(A, dtype=float)
         return traj
