@@ -132,6 +132,19 @@ def test_allow_collisions_pairs_and_all(make_task):
     assert not start_scene(m).allowed_collision_matrix.get_entry("panda_link1", "panda_hand")
 
 
+def test_allow_collisions_with_an_empty_list_allows_all(make_task):
+    """As MTC: an empty second list means every collision of the first names, as no list does
+    (the default entry and all explicit entries)."""
+    m = stages.ModifyPlanningScene()
+    m.allowCollisions("panda_link1", "panda_hand", False)
+    m.allowCollisions(["panda_link1", "panda_link5"], [], True)
+    task = forward_task(make_task, m)
+    assert task.plan()
+    acm = end_scene(m).allowed_collision_matrix
+    assert acm.get_default_entry("panda_link1") and acm.get_default_entry("panda_link5")
+    assert acm.get_entry("panda_link1", "panda_hand")
+
+
 def test_allow_collisions_with_group(make_task, panda):
     """allowCollisions(name, JointModelGroup, allow) allows the group's links with geometry."""
     m = stages.ModifyPlanningScene()
@@ -304,3 +317,4 @@ def test_removing_an_absent_object_is_logged_and_skipped(make_task, ready_scene,
     assert task.plan()
     assert end_scene(m).world_object_names == ["ball"]
     assert "old_box" in caplog.text and "ghost" in caplog.text
+

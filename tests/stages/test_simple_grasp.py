@@ -48,19 +48,17 @@ def test_children_of_simple_grasp():
     assert stages.SimpleGrasp().name == "grasp"
 
 
-def test_without_generator_compute_ik_is_still_the_first_child():
-    """MTC creates ComputeIK "compute ik" with or without a generator, so the IK properties are
-    exposed on the container either way and the generator can be inserted into it later."""
+def test_without_generator_there_is_no_compute_ik():
+    """As MTC: ComputeIK "compute ik" wraps a given generator only. Without one the container
+    grasps (releases) at the states that reach it, and exposes no IK properties."""
+    assert [c.name for c in stages.SimpleGrasp()] == ["allow object collision", "close gripper", "attach object"]
+    assert [c.name for c in stages.SimpleUnGrasp()] == ["detach object", "open gripper", "forbid object collision"]
     for cls in (stages.SimpleGrasp, stages.SimpleUnGrasp):
         container = cls()
-        ik = container["compute ik"]
-        assert isinstance(ik, stages.ComputeIK) and list(container)[0] is ik
-        assert ik.wrapped() is None
-        for name in ("max_ik_solutions", "timeout", "ik_frame"):
+        for name in ("max_ik_solutions", "ik_frame"):  # ("timeout" is every stage's)
+            assert not container.properties.hasProperty(name), (cls.__name__, name)
+        for name in ("eef", "object", "group", "goal"):
             assert container.properties.hasProperty(name), (cls.__name__, name)
-        container.max_ik_solutions = 3
-        container.timeout = 0.5
-        assert (container.max_ik_solutions, container.timeout) == (3, 0.5)
 
 
 def test_children_of_simple_ungrasp():
@@ -68,8 +66,6 @@ def test_children_of_simple_ungrasp():
     ungrasp = stages.SimpleUnGrasp(stages.GeneratePlacePose("gen"), "UnGrasp")
     assert [c.name for c in ungrasp] == ["compute ik", "detach object", "open gripper", "forbid object collision"]
     assert stages.SimpleUnGrasp().name == "ungrasp"
-    assert [c.name for c in stages.SimpleUnGrasp()] == ["compute ik", "detach object", "open gripper",
-                                                        "forbid object collision"]
 
 
 def test_properties():
@@ -168,16 +164,50 @@ def test_ungrasp_detaches_and_opens(make_task, ready_scene):
     assert not any(acm.get_entry("object", link) for link in HAND_LINKS)
 
 
-def test_generator_inserted_into_compute_ik_later(make_task, box_object):
-    """SimpleGrasp() without a generator plans once one is inserted into its "compute ik"."""
-    current = stages.CurrentState("current")
-    grasp = stages.SimpleGrasp(name="Grasp")
-    generator = _grasp_generator(current)
-    generator.eef, generator.object = "hand", "object"  # not inherited: MTC configures only a given one
-    grasp["compute ik"].insert(generator)
-    grasp.setIKFrame(_top_grasp_frame())
+def _hand_around_object_scene(ready_scene, closed: bool):
+    """The ready pose with a 2 cm cube "object" between the fingers (at the TCP), the hand
+    open or closed."""
+    scene = ready_scene.diff()
+    scene.current_state.set_to_default_values("hand", "close" if closed else "open")
+    tcp = scene.current_state.get_global_link_transform("panda_hand_tcp")[:3, 3]
+    scene.apply_collision_object(msgs.CollisionObject(
+        id="object", header=msgs.Header(frame_id="world"),
+        primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.02, 0.02, 0.02])],
+        primitive_poses=[msgs.Pose(position=msgs.Point(x=tcp[0], y=tcp[1], z=tcp[2]),
+                                   orientation=msgs.Quaternion(w=1.0))],
+        operation=msgs.CollisionObject.ADD))
+    return scene
+
+
+def test_grasp_without_generator_closes_and_attaches_where_the_hand_is(make_task, ready_scene):
+    """SimpleGrasp(None) after a state with the object between the open fingers: as MTC, it
+    propagates that state, closes the gripper and attaches the object; the arm does not move."""
+    start = _hand_around_object_scene(ready_scene, closed=False)
+    grasp = stages.SimpleGrasp(None, "Grasp")
     grasp.eef, grasp.object = "hand", "object"
-    task = make_task(current, stages.Connect("connect", [("panda_arm", core.JointInterpolationPlanner())]), grasp)
+    grasp.properties.set("grasp", "close")
+    task = make_task(stages.FixedState("start", start), grasp)
     assert task.plan()
-    assert grasp["compute ik"].wrapped() is generator
-    assert grasp.solutions[0].end.scene.attached_object_names == ["object"]
+    end = grasp.solutions[0].end.scene
+    assert end.attached_object_names == ["object"]
+    assert end.get_attached_object("object").link == "panda_link8"
+    assert end.current_state.joint_positions["panda_finger_joint1"] == pytest.approx(0.0)
+    arm = start.robot_model.get_joint_model_group("panda_arm").variable_names
+    np.testing.assert_allclose([end.current_state.joint_positions[j] for j in arm],
+                               [start.current_state.joint_positions[j] for j in arm])
+
+
+def test_ungrasp_of_an_object_that_is_not_attached_goes_on(make_task, ready_scene):
+    """As MTC, whose detach callback ignores MoveIt's refusal: releasing an object that is not
+    attached leaves it where it is, and the hand still opens."""
+    start = _hand_around_object_scene(ready_scene, closed=True)
+    start.allowed_collision_matrix.set_entry("object", HAND_LINKS, True)
+    ungrasp = stages.SimpleUnGrasp(None, "UnGrasp")
+    ungrasp.eef, ungrasp.object = "hand", "object"
+    ungrasp.pregrasp = "open"
+    task = make_task(stages.FixedState("start", start), ungrasp)
+    assert task.plan()
+    end = ungrasp.solutions[0].end.scene
+    assert end.attached_object_names == [] and "object" in end.world_object_names
+    assert end.current_state.joint_positions["panda_finger_joint1"] == pytest.approx(0.035)
+    assert not any(end.allowed_collision_matrix.get_entry("object", link) for link in HAND_LINKS)

@@ -116,7 +116,8 @@ class ModifyPlanningScene(PropagatingEitherWay):
     def allowCollisions(self, first, second=None, enable_collision=True) -> None:
         """Allow (or forbid, ``enable_collision=False``) collisions.
 
-        Forms: ``allowCollisions(object, allow=True)`` (all collisions of ``object``);
+        Forms: ``allowCollisions(object, allow=True)`` or ``allowCollisions(object, [], allow)``
+        (all collisions of ``object``);
         ``allowCollisions(first, second, allow=True)`` with each of ``first``/``second`` a
         name or a list of names; ``allowCollisions(name, joint_model_group, allow)`` (the
         group's links with collision geometry).
@@ -136,7 +137,8 @@ class ModifyPlanningScene(PropagatingEitherWay):
             # a JointModelGroup: its links are resolved against the model when applied
             self._collision_matrix_edits.append((firsts, second, enable_collision))
         else:
-            self._collision_matrix_edits.append((firsts, _names(second, "second"), enable_collision))
+            # an empty list means every collision of ``first``, as None does (as MTC)
+            self._collision_matrix_edits.append((firsts, _names(second, "second") or None, enable_collision))
 
     def setCallback(self, callback: Callable) -> None:
         """Call ``callback(scene, properties)`` on the modified scene (after the other edits)."""
@@ -161,7 +163,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
             for obj in self._collision_objects:
                 self._processCollisionObject(scene, obj, invert)
             for names, link, attach in self._attach_objects:
-                self._attachObjects(scene, names, link, attach != invert)
+                apply_attach(scene, names, link, attach != invert)
             for first, second, allow in self._collision_matrix_edits:
                 self._allowCollisions(scene, first, second, allow != invert)
             if self._callback is not None:
@@ -196,20 +198,6 @@ class ModifyPlanningScene(PropagatingEitherWay):
                       e.args[0] if e.args else e)
 
     @staticmethod
-    def _attachObjects(scene, names: list[str], link: str, attach: bool) -> None:
-        op = msgs.CollisionObject.ADD if attach else msgs.CollisionObject.REMOVE
-        for name in names:
-            try:
-                scene.apply_attached_collision_object(
-                    msgs.AttachedCollisionObject(link_name=link, object=msgs.CollisionObject(id=name, operation=op))
-                )
-            except KeyError as e:
-                # as MTC, which ignores MoveIt's result here: an unknown object or link, or
-                # detaching an object that is not attached, is logged and skipped
-                log.error("cannot %s object '%s' %s link '%s': %s", "attach" if attach else "detach", name,
-                          "to" if attach else "from", link, e.args[0] if e.args else e)
-
-    @staticmethod
     def _allowCollisions(scene, first: list[str], second, allow: bool) -> None:
         acm = scene.allowed_collision_matrix
         if second is None:
@@ -224,6 +212,23 @@ class ModifyPlanningScene(PropagatingEitherWay):
             if not second:
                 return
         acm.set_entry(first, second, allow)
+
+
+def apply_attach(scene, names: list[str], link: str, attach: bool) -> None:
+    """Attach the objects ``names`` to ``link`` of ``scene`` (``attach=False``: detach them).
+
+    As MTC, which ignores MoveIt's result here: an unknown object or link, or detaching an
+    object that is not attached there, is logged and skipped.
+    """
+    op = msgs.CollisionObject.ADD if attach else msgs.CollisionObject.REMOVE
+    for name in names:
+        try:
+            scene.apply_attached_collision_object(
+                msgs.AttachedCollisionObject(link_name=link, object=msgs.CollisionObject(id=name, operation=op))
+            )
+        except KeyError as e:
+            log.error("cannot %s object '%s' %s link '%s': %s", "attach" if attach else "detach", name,
+                      "to" if attach else "from", link, e.args[0] if e.args else e)
 
 
 def _copy_msg(msg):

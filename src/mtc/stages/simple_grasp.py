@@ -8,6 +8,11 @@ MTC's ``stages/simple_grasp.h`` (semantics §2.19). A serial container of
 * ``SimpleUnGrasp``: ``"compute ik"`` (around the place-pose generator) → ``"detach object"``
   → ``"open gripper"`` (MoveTo the ``pregrasp`` posture) → ``"forbid object collision"``.
 
+As in MTC, ``"compute ik"`` exists only around a given generator; without one the container
+grasps (releases) at the states that reach it. An object that cannot be attached or detached
+(unknown, or not attached to the end effector's parent link) is logged and the scene is left as
+it is, as MTC's callbacks ignore MoveIt's refusal.
+
 The properties ``object``, ``eef``, ``pregrasp`` and ``grasp`` travel with the states from the
 generator through every child (``forwarded_properties``), so the gripper stages know which
 posture to move to. ``eef``, ``object``, ``ik_frame``, ``max_ik_solutions`` and ``timeout``
@@ -21,7 +26,7 @@ from mtc.core.stage import InitStageError, Stage
 from mtc.stages._common import ik_frame_from_args
 from mtc.stages.compute_ik import ComputeIK
 from mtc.stages.generate_grasp_pose import check_posture
-from mtc.stages.modify_planning_scene import ModifyPlanningScene
+from mtc.stages.modify_planning_scene import ModifyPlanningScene, apply_attach
 from mtc.stages.move_to import MoveTo
 
 __all__ = ["SimpleGraspBase", "SimpleGrasp", "SimpleUnGrasp"]
@@ -64,26 +69,26 @@ class SimpleGraspBase(SerialContainer):
 
     def _setup(self, generator: Stage | None, forward: bool) -> None:
         self.setForwardedProperties(GRASP_PROPERTIES)
-        # children are appended (grasp) or inserted right after ComputeIK (ungrasp), so that
-        # ungrasping runs the grasping steps in reverse
-        position = -1 if forward else 1
+        # children are appended (grasp) or inserted after ComputeIK (ungrasp, at the front
+        # without one), so that ungrasping runs the grasping steps in reverse
+        position = -1 if forward else (0 if generator is None else 1)
 
         if generator is not None:
             if not isinstance(generator, Stage):
                 raise TypeError(f"{type(self).__name__}: the generator must be a Stage, got {type(generator).__name__}")
             generator.setForwardedProperties(GRASP_PROPERTIES)  # generator -> IK solutions
             generator.properties.configureInitFrom(Stage.PARENT, ["object", "eef"])
-        # ComputeIK exists even without a generator (as in MTC): the generator can be inserted
-        # into self["compute ik"] later, and the container exposes its IK properties either way
-        ik = ComputeIK("compute ik", generator)
-        ik.setForwardedProperties(GRASP_PROPERTIES)
-        p = ik.properties
-        p.declare("object", None, "object to grasp", type=str)
-        p.configureInitFrom(Stage.INTERFACE, ["target_pose"])
-        p.configureInitFrom(Stage.PARENT, ["max_ik_solutions", "timeout", "object"])
-        p.configureInitFrom(Stage.PARENT | Stage.INTERFACE, ["eef", "ik_frame"])
-        p.exposeTo(self.properties, ["max_ik_solutions", "timeout", "ik_frame"])
-        self.insert(ik, 0)  # ComputeIK always goes first
+            # as MTC, ComputeIK exists only around a generator: without one the container
+            # grasps (releases) at the states that reach it
+            ik = ComputeIK("compute ik", generator)
+            ik.setForwardedProperties(GRASP_PROPERTIES)
+            p = ik.properties
+            p.declare("object", None, "object to grasp", type=str)
+            p.configureInitFrom(Stage.INTERFACE, ["target_pose"])
+            p.configureInitFrom(Stage.PARENT, ["max_ik_solutions", "timeout", "object"])
+            p.configureInitFrom(Stage.PARENT | Stage.INTERFACE, ["eef", "ik_frame"])
+            p.exposeTo(self.properties, ["max_ik_solutions", "timeout", "ik_frame"])
+            self.insert(ik, 0)  # ComputeIK always goes first
 
         touch = ModifyPlanningScene("allow object collision" if forward else "forbid object collision")
         touch.setForwardedProperties(GRASP_PROPERTIES)
@@ -117,12 +122,10 @@ class SimpleGraspBase(SerialContainer):
         p.configureInitFrom(Stage.PARENT | Stage.INTERFACE, ["eef", "object"])
 
         def attach_object(scene, props, attach=forward):
-            obj = props.get("object")
-            if attach:
-                link = scene.robot_model.get_end_effector(props.get("eef")).parent_link
-                scene.attach_object(obj, link)
-            else:
-                scene.detach_object(obj)
+            # as MTC: attach to (detach from) the end effector's parent link; an object that
+            # cannot be attached or detached is logged and the scene stays as it is
+            link = scene.robot_model.get_end_effector(props.get("eef")).parent_link
+            apply_attach(scene, [props.get("object")], link, attach)
 
         attach.setCallback(attach_object)
         self.insert(attach, position)
@@ -174,8 +177,8 @@ class SimpleGrasp(SimpleGraspBase):
 
     Args:
         pose_generator: The grasp-pose generator (e.g. ``GenerateGraspPose``); it is wrapped
-            in the child ComputeIK ``"compute ik"``. Without one, insert it there later:
-            ``container["compute ik"].insert(generator)``.
+            in the child ComputeIK ``"compute ik"``. Without one (``None``) there is no
+            ComputeIK, and the container works on the states that reach it.
         name: Stage name.
     """
 
@@ -189,8 +192,8 @@ class SimpleUnGrasp(SimpleGraspBase):
 
     Args:
         pose_generator: The place-pose generator (e.g. ``GeneratePlacePose``); it is wrapped
-            in the child ComputeIK ``"compute ik"``. Without one, insert it there later:
-            ``container["compute ik"].insert(generator)``.
+            in the child ComputeIK ``"compute ik"``. Without one (``None``) there is no
+            ComputeIK, and the container works on the states that reach it.
         name: Stage name.
     """
 
