@@ -63,6 +63,12 @@ def test_object_is_pushed_out_forward(make_task, ready_scene, box):
     moved = end.get_world_object("obj").pose[:3, 3] - ready_scene.get_world_object("obj").pose[:3, 3]
     assert moved[0] > 0.005 and abs(moved[1]) < 1e-3 and np.linalg.norm(moved) < 0.05
     assert fix.solutions[0].comment == ""  # as MTC: no comment (the move is logged)
+    # as MTC: one green arrow per colliding pair and check, along the move that fixed the pair;
+    # every pair moves the object, so the arrows add up to the whole move
+    markers = fix.solutions[0].markers
+    assert markers and all(m["ns"] == "collisions" and m["color"] == "green" and m["name"] == "obj"
+                           for m in markers)
+    np.testing.assert_allclose(sum(m["end"] - m["start"] for m in markers), moved, atol=1e-9)
 
 
 def test_too_deep_is_a_failure(make_task, ready_scene, box, caplog):
@@ -78,6 +84,9 @@ def test_too_deep_is_a_failure(make_task, ready_scene, box, caplog):
         assert not task.plan()
     assert fix.failures[0].comment == ""
     assert "obj" in caplog.text and "max_penetration" in caplog.text
+    # as MTC, the red arrow (longer than max_penetration) is what shows why it failed
+    last = fix.failures[0].markers[-1]
+    assert last["color"] == "red" and np.linalg.norm(last["end"] - last["start"]) > 0.01
 
 
 def test_direction_replaces_the_normal(make_task, ready_scene, box):

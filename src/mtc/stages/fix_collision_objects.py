@@ -16,6 +16,7 @@ from mtc import msgs
 from mtc.core.cost_terms import Constant
 from mtc.core.stage import InitStageError, PropagatingEitherWay
 from mtc.core.storage import InterfaceState, SubTrajectory
+from mtc.stages._common import arrow_marker
 
 log = logging.getLogger(__name__)
 
@@ -84,23 +85,24 @@ class FixCollisionObjects(PropagatingEitherWay):
                     log.info("%s: moved %s", self.name, ", ".join(
                         f"'{name}' by ({v[0]:.4g}, {v[1]:.4g}, {v[2]:.4g})" for name, v in moved.items()))
                 return result
-            moved_now = set()
+            # as MTC: every colliding pair of this check moves its object by its own correction
+            # (an object touching two bodies moves twice), each shown as an arrow that ends at
+            # the pair's first contact: green, or red for a correction beyond max_penetration
             for body_a, body_b, points in contacts:
                 name = body_a if body_a in world else body_b
-                if name in moved_now:
-                    # its other contacts are stale after the move: check again next round
-                    # (MTC moves once per colliding pair, which may push an object twice)
-                    continue
                 correction = _correction(body_a in world, points)
                 depth = float(np.linalg.norm(correction))
-                if depth > max_penetration:
+                fails = depth > max_penetration
+                contact = np.asarray(points[0][0], dtype=float)
+                result.markers.append(arrow_marker("collisions", name, contact - correction, contact,
+                                                   "red" if fails else "green", scene.planning_frame))
+                if fails:
                     log.info("%s: cannot fix collision between %s and %s: correction %.4g m exceeds "
                              "max_penetration %.4g m", self.name, body_a, body_b, depth, max_penetration)
                     result.markAsFailure()
                     return result
                 if direction is not None:  # an explicit direction replaces the contact normals
                     correction = np.array([direction.x, direction.y, direction.z], dtype=float)
-                moved_now.add(name)
                 pose = scene.get_world_object(name).pose.copy()
                 pose[:3, 3] += correction
                 scene.apply_collision_object(
