@@ -9,9 +9,10 @@ Heavy modules load on first use, so ``import mtc`` stays cheap.
 from __future__ import annotations
 
 import importlib
-import logging
 
-logging.getLogger(__name__).addHandler(logging.NullHandler())
+# No handler of our own (not even a NullHandler): until the application configures logging,
+# Python's last-resort handler prints mtc's warnings and errors to stderr, as MoveIt's console
+# shows its ROS_WARN/ROS_ERROR (a misspelled object to attach, a stale solution to execute).
 
 __version__ = "0.1.0"
 
@@ -26,7 +27,7 @@ _EXPORTS = {
     "reset_current_scene": "mtc.scene.current_scene",
     "Introspection": "mtc.core.introspection",
 }
-_SUBMODULES = ("core", "stages", "msgs", "robots", "scene", "planners", "viewer")
+_SUBMODULES = ("core", "stages", "msgs", "robots", "scene", "planners", "viewer", "rclcpp")
 
 __all__ = sorted([*_EXPORTS, *_SUBMODULES, "roscpp_init"])
 

@@ -2,6 +2,10 @@
 
 from __future__ import annotations
 
+import subprocess
+import sys
+import textwrap
+
 import pytest
 
 from mtc import core, msgs, stages
@@ -318,3 +322,19 @@ def test_removing_an_absent_object_is_logged_and_skipped(make_task, ready_scene,
     assert end_scene(m).world_object_names == ["ball"]
     assert "old_box" in caplog.text and "ghost" in caplog.text
 
+
+def test_a_skipped_edit_is_reported_on_stderr_without_logging_set_up():
+    """As MoveIt prints its errors to the console: a misspelled object to attach is skipped (the
+    stage succeeds, as in MTC), and the error reaches stderr although nothing set up logging."""
+    script = textwrap.dedent('''
+        from mtc import core, stages
+        task = core.Task()
+        task.add(stages.CurrentState("current"))
+        attach = stages.ModifyPlanningScene("attach")
+        attach.attachObject("boxx", "panda_hand")
+        task.add(attach)
+        assert task.plan()
+    ''')
+    run = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120)
+    assert run.returncode == 0, run.stderr
+    assert "cannot attach object 'boxx' to link 'panda_hand'" in run.stderr
