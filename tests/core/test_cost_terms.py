@@ -163,6 +163,10 @@ def test_cost_overwrite():
     assert container.solutions[0].cost == 1.0, "custom cost overwrites stage cost"
     with pytest.raises(TypeError, match="setCostTerm"):
         stage.setCostTerm(42)
+    # a cost term class (callable, but not a cost function) is named at the call, with the fix
+    with pytest.raises(TypeError, match=r"got the class PathLength: write PathLength\(\)"):
+        stage.setCostTerm(core.PathLength)
+    assert isinstance(stage.costTerm(), core.Constant)  # the stage keeps its cost term
 
 
 @pytest.mark.parametrize("make", [ConnectCostMockup, ForwardCostMockup, BackwardCostMockup])

@@ -342,6 +342,7 @@ def test_explain_failure_and_print_state():
         "    1  - ←   1 →   -  0 / GEN1",
         "    -  0 →   0 →   -  0 / FWD1",
     ]
+    assert str(t) == out.getvalue()  # as MTC's operator<< of a Task: the whole tree
 
 
 def test_plan_without_solutions_prints_state_and_failure_to_stdout(capsys):

@@ -5,6 +5,9 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import numpy as np
+import pytest
+
 from mockups import GeneratorMockup, add, toy_model
 
 import mtc
@@ -35,6 +38,18 @@ def test_plan_without_solution_returns_planning_failed(t):
     add(t, GeneratorMockup([float("inf")]))
     result = t.plan()
     assert result == core.MoveItErrorCode.PLANNING_FAILED and not result
+
+
+@pytest.mark.parametrize("bad", [-1, 2.5, "2", None, True])
+def test_plan_rejects_a_bad_max_solutions(t, bad):
+    """As MTC's binding (a size_t): max_solutions is a whole number >= 0, checked before
+    anything is planned."""
+    gen = GeneratorMockup([1.0, 2.0])
+    add(t, gen)
+    with pytest.raises(TypeError, match=r"max_solutions must be a whole number >= 0 \(0: no limit\), got"):
+        t.plan(bad)
+    assert gen.runs == 0 and not t.solutions
+    assert t.plan(np.int64(1)) and len(t.solutions) == 1
 
 
 def test_namespace_normalized():

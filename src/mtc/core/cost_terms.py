@@ -160,6 +160,9 @@ def as_cost_term(term) -> CostTerm | None:
     """What ``setCostTerm()`` accepts: a CostTerm, None (default) or a callable."""
     if term is None or isinstance(term, CostTerm):
         return term
+    if isinstance(term, type) and issubclass(term, CostTerm):
+        raise TypeError(f"setCostTerm() expects a cost term instance, got the class {term.__name__}: "
+                        f"write {term.__name__}()")
     if callable(term):
         return LambdaCostTerm(term)
     raise TypeError(f"setCostTerm() expects a CostTerm, a callable or None, got {type(term).__name__}")

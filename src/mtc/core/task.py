@@ -7,7 +7,9 @@ elapsed or ``preempt()`` was called (also from another thread).
 
 from __future__ import annotations
 
+import io
 import logging
+import numbers
 import re
 import sys
 import threading
@@ -305,7 +307,13 @@ class Task(WrapperBase):
 
         Returns:
             SUCCESS if there is any solution, else PLANNING_FAILED, TIMED_OUT or PREEMPTED.
+
+        Raises:
+            TypeError: ``max_solutions`` is not a whole number >= 0 (as MTC's binding, which
+                takes a ``size_t``); nothing is planned.
         """
+        if isinstance(max_solutions, bool) or not isinstance(max_solutions, numbers.Integral) or max_solutions < 0:
+            raise TypeError(f"plan(): max_solutions must be a whole number >= 0 (0: no limit), got {max_solutions!r}")
         try:
             self.init()
             root = self._children[0]
@@ -356,6 +364,12 @@ class Task(WrapperBase):
         from mtc.core.introspection import print_state
 
         print_state(self._children[0], sys.stdout if file is None else file)
+
+    def __str__(self) -> str:
+        """The stage tree as :meth:`printState` prints it (MTC's ``operator<<`` of a Task)."""
+        out = io.StringIO()
+        self.printState(out)
+        return out.getvalue()
 
     def explainFailure(self, file=None) -> bool:
         """Print ``Failing stage(s):`` and the first failing stage with its first failure comment."""
