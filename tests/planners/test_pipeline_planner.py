@@ -34,6 +34,23 @@ def test_defaults_and_typed_properties():
     assert repr(planner) == "PipelinePlanner('ompl', planner='PRMkConfigDefault')"
 
 
+def test_ros2_form_takes_a_node_first():
+    """ROS 2's PipelinePlanner(node, pipeline, planner_id) with mtc's rclcpp stand-in: the node
+    is ignored, the rest is as on master."""
+    from mtc import rclcpp
+
+    rclcpp.init()
+    node = rclcpp.Node("mtc_tutorial")
+    assert PipelinePlanner(node).pipeline_id == "ompl"
+    planner = PipelinePlanner(node, "ompl", "RRTConnectkConfigDefault")
+    assert (planner.pipeline_id, planner.planner) == ("ompl", "RRTConnectkConfigDefault")
+    assert PipelinePlanner(node, "pilz_industrial_motion_planner", "LIN").planner == "LIN"
+    with pytest.raises(TypeError, match="pipeline must be a name"):
+        PipelinePlanner(object())  # anything else in front is not a node
+    with pytest.raises(TypeError, match=r"\(node, pipeline, planner_id\), got 3 arguments after the node"):
+        PipelinePlanner(node, "ompl", "RRTConnectkConfigDefault", 1)
+
+
 def test_unknown_pipeline_fails_at_init(panda):
     """An unknown pipeline is accepted by the constructor and rejected by init(), listing the known ones."""
     planner = PipelinePlanner("chomp")

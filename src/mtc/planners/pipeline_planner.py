@@ -70,7 +70,20 @@ class PipelinePlanner(PlannerInterface):
         (and those of :class:`PlannerInterface`)
     """
 
-    def __init__(self, pipeline: str = "ompl", planner_id: str = ""):
+    def __init__(self, *args, **kwargs):
+        """``PipelinePlanner(pipeline="ompl", planner_id="")``, or ROS 2's
+        ``PipelinePlanner(node, pipeline="ompl", planner_id="")`` with an :class:`mtc.rclcpp.Node`
+        first (accepted and ignored)."""
+        from mtc.rclcpp import Node
+
+        if args and isinstance(args[0], Node):
+            args = args[1:]
+        if len(args) > 2:
+            raise TypeError("PipelinePlanner takes (pipeline, planner_id) or ROS 2's (node, pipeline, planner_id), "
+                            f"got {len(args)} arguments after the node")
+        self._configure(*args, **kwargs)
+
+    def _configure(self, pipeline: str = "ompl", planner_id: str = "") -> None:
         super().__init__()
         if not isinstance(pipeline, str):
             raise TypeError(f"pipeline must be a name ({', '.join(KNOWN_PIPELINES)}), not {type(pipeline).__name__}")
