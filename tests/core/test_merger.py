@@ -99,7 +99,32 @@ def test_same_group_twice_fails(t):
     t.enableIntrospection(True)
     assert not t.plan()
     assert merger.numFailures() == 1
-    assert merger.failures[0].comment == "Expected multiple groups"
+    # as MTC: one group per child, so the group overlaps itself in all its joints
+    assert merger.failures[0].comment == "overlapping joints: base-link1-joint, link1-link2-joint"
+
+
+def test_two_children_of_one_group_beside_another_group_fail():
+    """Two children moving panda_arm (and one the hand) on the Panda: as MTC, the merge fails
+    with the overlapping joints, instead of a trajectory that jumps between the two arm plans."""
+    from mtc import stages
+
+    panda = mtc.robots.panda()
+    scene = mtc.PlanningScene(panda)
+    scene.current_state.set_to_default_values("panda_arm", "ready")
+    task = core.Task(introspection=True)
+    task.setRobotModel(panda)
+    task.add(stages.FixedState("start", scene))
+    merger = core.Merger("merger")
+    for name, group, goal in [("arm a", "panda_arm", "extended"), ("arm b", "panda_arm", {"panda_joint1": 1.0}),
+                              ("hand", "hand", "close")]:
+        move = stages.MoveTo(name, core.JointInterpolationPlanner())
+        move.group = group
+        move.setGoal(goal)
+        merger.insert(move)
+    task.add(merger)
+    assert not task.plan()
+    assert [f.comment for f in merger.failures] == [
+        "overlapping joints: " + ", ".join(f"panda_joint{i}" for i in range(1, 8))]
 
 
 def test_merge_errors():
@@ -108,7 +133,7 @@ def test_merge_errors():
     traj = mtc.RobotTrajectory.from_positions(model, "group", state, np.zeros((2, 2)))
     with pytest.raises(MergeError, match="Expected multiple sub solutions"):
         merge_trajectories([traj], state)
-    with pytest.raises(MergeError, match="Expected multiple groups"):
+    with pytest.raises(MergeError, match="overlapping joints: base-link1-joint, link1-link2-joint"):
         merge_trajectories([traj, traj], state)
 
 

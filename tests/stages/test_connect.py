@@ -234,13 +234,15 @@ def test_second_group_failure_is_a_sequence_with_the_failed_part(make_task, read
     assert not arm.isFailure and hand.isFailure and hand.trajectory is None
 
 
-def test_overlapping_groups_disable_merging(make_task, ready_scene, caplog):
-    """Overlapping groups cannot be merged: Connect stores them sequentially (info log)."""
+@pytest.mark.parametrize("groups", [["panda_arm", "panda_arm_hand"], ["panda_arm", "panda_arm", "hand"]])
+def test_overlapping_groups_disable_merging(make_task, ready_scene, caplog, groups):
+    """Overlapping groups cannot be merged: Connect stores them sequentially (info log). As in
+    MTC, a group listed twice overlaps itself (merging would interleave its two plans)."""
     import logging
 
     caplog.set_level(logging.INFO)
     planner = JointInterpolationPlanner()
-    c = stages.Connect("c", [("panda_arm", planner), ("panda_arm_hand", planner)])
+    c = stages.Connect("c", [(g, planner) for g in groups])
     end = goal_scene(ready_scene, hand="close")
     task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
     assert task.plan()

@@ -1049,8 +1049,8 @@ def merge_trajectories(trajectories: list, start_state, time_parameterization=No
     acceleration scaling.
 
     Raises:
-        MergeError: Fewer than two trajectories or groups, different robot models, or
-            joints moved by more than one trajectory.
+        MergeError: Fewer than two trajectories, different robot models, or joints moved by
+            more than one trajectory (also two trajectories of the same group).
     """
     from mtc.scene.robot_state import RobotState
     from mtc.scene.robot_trajectory import RobotTrajectory
@@ -1060,19 +1060,16 @@ def merge_trajectories(trajectories: list, start_state, time_parameterization=No
     model = trajectories[0].robot_model
     if any(t.robot_model is not model for t in trajectories):
         raise MergeError("groups refer to different robot models")
-    groups = []
-    for t in trajectories:
-        if t.group not in groups:
-            groups.append(t.group)
-    if len(groups) <= 1:
-        raise MergeError("Expected multiple groups")
-    owner: dict[str, object] = {}
+    # one group per trajectory, as MTC: two trajectories of the same group overlap in all its
+    # joints (merging them would interleave their waypoints)
+    groups = [t.group for t in trajectories]
+    seen: set[str] = set()
     overlap = []
     for g in groups:
         for v in g.variable_names:
-            if v in owner and v not in overlap:
+            if v in seen and v not in overlap:
                 overlap.append(v)
-            owner[v] = g
+            seen.add(v)
     if overlap:
         raise MergeError("overlapping joints: " + ", ".join(overlap))
     merged = RobotTrajectory(model, model.merged_group([g.name for g in groups]))

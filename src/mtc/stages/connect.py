@@ -139,13 +139,14 @@ class Connect(Connecting):
             self._planned_joints.update(jmg.variable_names)
         self._merging = False
         if len(groups) >= 2:
-            seen: dict[str, str] = {}
+            # as MTC: a group listed twice overlaps itself, which rules out merging too
+            seen: set[str] = set()
             overlap = []
             for jmg in groups:
                 for v in jmg.variable_names:
-                    if v in seen and seen[v] != jmg.name:
+                    if v in seen and v not in overlap:
                         overlap.append(v)
-                    seen.setdefault(v, jmg.name)
+                    seen.add(v)
             if overlap:
                 log.info("%s: overlapping joints: %s. Disabling merging.", self.name, ", ".join(overlap))
             else:
