@@ -27,6 +27,27 @@ def as_rng(rng: np.random.Generator | int | None) -> np.random.Generator:
     raise TypeError(f"rng must be a numpy Generator, an int seed or None, not {type(rng).__name__}")
 
 
+def _checked_positions(model: RobotModel, values) -> np.ndarray:
+    """``values`` as a new full variable vector of ``model``.
+
+    Raises:
+        ValueError: the wrong number of values, or values that are not finite.
+    """
+    q = np.array(values, dtype=float)
+    if q.shape != (model.variable_count,):
+        raise ValueError(
+            f"positions must have {model.variable_count} values ({', '.join(model.variable_names)}), got shape {q.shape}"
+        )
+    if not np.isfinite(q).all():
+        bad = [f"{n}={v}" for n, v in zip(model.variable_names, q.tolist()) if not np.isfinite(v)]
+        raise ValueError(f"joint positions must be finite numbers, got {', '.join(bad)}")
+    return q
+
+
+#: the generator of set_to_random_positions() without an rng (one per process, seeded once)
+_PROCESS_RNG = np.random.default_rng(0)
+
+
 class RobotState:
     """Joint positions of a robot, with kinematic queries.
 
@@ -43,15 +64,7 @@ class RobotState:
         if not isinstance(robot_model, RobotModel):
             raise TypeError(f"RobotState needs a RobotModel, not {type(robot_model).__name__}")
         self._model = robot_model
-        if positions is None:
-            q = robot_model.default_positions.copy()
-        else:
-            q = np.array(positions, dtype=float)
-            if q.shape != (robot_model.variable_count,):
-                raise ValueError(
-                    f"positions must have {robot_model.variable_count} values "
-                    f"({', '.join(robot_model.variable_names)}), got shape {q.shape}"
-                )
+        q = robot_model.default_positions.copy() if positions is None else _checked_positions(robot_model, positions)
         robot_model.enforce_mimic(q)
         self._q = q
         self._fk_token = None
@@ -72,12 +85,7 @@ class RobotState:
 
     @positions.setter
     def positions(self, values) -> None:
-        q = np.array(values, dtype=float)
-        if q.shape != self._q.shape:
-            raise ValueError(
-                f"positions must have {self._q.size} values ({', '.join(self._model.variable_names)}), "
-                f"got shape {q.shape}"
-            )
+        q = _checked_positions(self._model, values)
         self._model.enforce_mimic(q)
         self._q = q
         self._fk_token = None
@@ -101,7 +109,11 @@ class RobotState:
             raise TypeError(f"joint positions must be a dict of joint name -> value, not {type(values).__name__}")
         indices = [self._model.variable_index(name) for name in values]
         q = self._q.copy()
-        q[indices] = [float(v) for v in values.values()]
+        for i, (name, v) in zip(indices, values.items()):
+            try:
+                q[i] = float(v)
+            except (TypeError, ValueError):
+                raise TypeError(f"joint '{name}': the position must be a number, got {v!r}") from None
         self.positions = q
 
     def set_joint_group_positions(self, group: str, values) -> None:
@@ -138,9 +150,15 @@ class RobotState:
 
     def set_to_random_positions(self, group: str | None = None, rng=None) -> None:
         """Uniform random values inside the bounds for the group's (default: all) variables;
-        continuous joints in [-pi, pi). ``rng``: numpy Generator or int seed (None: seed 0)."""
+        continuous joints in [-pi, pi).
+
+        Args:
+            rng: numpy Generator or int seed. None: the process's own generator, seeded with
+                0 at import, so each call draws a new sample (as MoveIt's state RNG) and a
+                script gives the same samples every time it runs.
+        """
         jmg = self._group(group)
-        gen = as_rng(rng)
+        gen = _PROCESS_RNG if rng is None else as_rng(rng)
         idx = jmg.variable_indices
         lo = np.where(np.isfinite(self._model.lower_bounds[idx]), self._model.lower_bounds[idx], -np.pi)
         hi = np.where(np.isfinite(self._model.upper_bounds[idx]), self._model.upper_bounds[idx], np.pi)
@@ -210,6 +228,11 @@ class RobotState:
         return self.copy()
 
     # ------------------------------------------------------------------ kinematics
+    def update(self, force: bool = False, category: str = "all") -> None:
+        """Accepted for moveit_py scripts (``robot_state.update()``, "required to update
+        transforms" there): ``mtc`` computes transforms when they are asked for, so there is
+        nothing to do."""
+
     def _ensure_fk(self) -> pin.Data:
         model = self._model
         if self._fk_token is None or model._fk_owner is not self._fk_token:
