@@ -102,6 +102,47 @@ def test_box_through_the_hand_collides_and_moved_away_does_not(scene):
     assert scene.get_collisions() == []
 
 
+def test_moveit_py_call_forms(scene):
+    """The calls of moveit_py's planning-scene tutorial: its keyword names, verbose, a group
+    name alone for the current state; and RobotState's moveit_py keyword names."""
+    scene.apply_collision_object(collision_object_msg=box("b", (0.307, 0.0, 0.56), (0.04, 0.04, 0.04)))
+    state = scene.current_state
+    assert scene.is_state_colliding(robot_state=state, joint_model_group_name="panda_arm", verbose=True)
+    assert scene.is_state_colliding("panda_arm") and scene.is_state_colliding(state, "panda_arm", True)
+    assert not scene.is_state_valid(robot_state=state, joint_model_group_name="panda_arm")
+    with pytest.raises(TypeError, match="got both 'state' and moveit_py's name for it, 'robot_state'"):
+        scene.is_state_colliding(state=state, robot_state=state)
+    with pytest.raises(TypeError, match="state must be a RobotState \\(or, as in moveit_py, a group name\\), not list"):
+        scene.is_state_colliding([0.0] * 9)
+
+    moved = state.copy()
+    moved.set_joint_group_positions(joint_model_group_name="panda_arm", position_values=[0, -0.785, 0, -2.356, 0, 1.571, 0.3])
+    assert moved.get_joint_group_positions(joint_model_group_name="panda_arm")[6] == pytest.approx(0.3)
+    np.testing.assert_allclose(moved.get_pose(link_name="panda_link8").position.z, moved.get_pose("panda_link8").position.z)
+    np.testing.assert_allclose(moved.get_frame_transform(frame_id="panda_hand"), moved.get_global_link_transform(link_name="panda_hand"))
+    target = moved.get_pose("panda_link8")
+    ik = state.copy()
+    assert ik.set_from_ik(joint_model_group_name="panda_arm", geometry_pose=target, tip_name="panda_link8")
+    np.testing.assert_allclose(ik.get_global_link_transform("panda_link8"), moved.get_global_link_transform("panda_link8"), atol=1e-5)
+
+
+def test_deepcopy_is_an_independent_scene(scene):
+    """copy.deepcopy (also of a scene that has checked collisions) gives an independent scene,
+    as moveit_py's clone; no collision set-up is copied."""
+    import copy
+
+    scene.apply_collision_object(box("b", (0.307, 0.0, 0.56), (0.04, 0.04, 0.04)))
+    assert scene.is_state_colliding()
+    other = copy.deepcopy(scene)
+    assert other is not scene and other.is_state_colliding() and other.parent is None
+    other.apply_collision_object(CollisionObject(id="b", operation=CollisionObject.REMOVE))
+    other.current_state.set_to_default_values("panda_arm", "extended")
+    assert not other.is_state_colliding()
+    assert scene.is_state_colliding() and scene.world_object_names == ["b"]
+    with pytest.raises(TypeError, match="is_path_valid takes a RobotTrajectory, not list"):
+        scene.is_path_valid([scene.current_state])
+
+
 def test_allowed_pairs_do_not_collide(scene):
     """ACM entries for every touching link, or a default entry for the object, clear the collision."""
     scene.apply_collision_object(box("b", (0.307, 0.0, 0.6), (0.04, 0.04, 0.04)))

@@ -18,6 +18,7 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
+from mtc.scene._moveit_py import moveit_py_keywords
 from mtc.scene.collision_matrix import AllowedCollisionMatrix
 from mtc.scene.robot_model import DescriptionError, RobotModel
 from mtc.scene.robot_state import RobotState
@@ -791,6 +792,14 @@ class PlanningScene:
         child.parent = None
         return child
 
+    def __copy__(self) -> PlanningScene:
+        return self.copy()
+
+    def __deepcopy__(self, memo) -> PlanningScene:
+        # an independent scene, as moveit_py's clone (the collision set-up it shares is
+        # rebuilt, not changed, when either scene changes its objects)
+        return self.copy()
+
     def _same_objects(self, other: PlanningScene) -> bool:
         """Whether both scenes certainly hold the same world and attached objects: none, or
         one scene was made from the other (or both from a third) and neither changed its
@@ -912,6 +921,7 @@ class PlanningScene:
         subframes = {n: msgs.pose_to_matrix(p) for n, p in zip(msg.subframe_names, msg.subframe_poses)}
         return WorldObject(oid, pose, tuple(shapes), tuple(poses), subframes, tuple(geoms))
 
+    @moveit_py_keywords(collision_object_msg="msg", color_msg="color")
     def apply_collision_object(self, msg: msgs.CollisionObject, color=None) -> None:
         """Add (ADD; replaces an object of the same id), extend (APPEND), move (MOVE) or remove
         (REMOVE; an empty id removes every world object) a world object. All checks run before
@@ -1103,21 +1113,41 @@ class PlanningScene:
         if group:
             self._model.get_joint_model_group(group)
 
-    def is_state_colliding(self, state: RobotState | None = None, group: str | None = None) -> bool:
+    @staticmethod
+    def _state_and_group(state, group) -> tuple[RobotState | None, str | None]:
+        """moveit_py's ``(joint_model_group_name)`` form: a group name alone checks the current state."""
+        if isinstance(state, str):
+            if group is not None:
+                raise TypeError(f"give a RobotState and a group name, or a group name alone; got {state!r}, {group!r}")
+            return None, state
+        if state is not None and not isinstance(state, RobotState):
+            raise TypeError(f"state must be a RobotState (or, as in moveit_py, a group name), not {type(state).__name__}")
+        return state, group
+
+    @moveit_py_keywords(robot_state="state", joint_model_group_name="group")
+    def is_state_colliding(self, state: RobotState | None = None, group: str | None = None, verbose: bool = False) -> bool:
         """Whether the robot (only the links that ``group`` moves, if given) collides with
         itself, the world or attached objects, honouring the ACM.
 
         Args:
-            state: the state to check (default: the scene's current state).
+            state: the state to check (default: the scene's current state); as in moveit_py,
+                a group name alone checks the current state.
             group: restrict to pairs involving a body the group moves.
+            verbose: log the colliding pairs (logger ``mtc.scene.planning_scene``, INFO).
         """
+        state, group = self._state_and_group(state, group)
         self._check_group(group)
-        return self._collision_env().colliding(self._q(state), group)
+        colliding = self._collision_env().colliding(self._q(state), group)
+        if colliding and verbose:
+            log.info("colliding pairs: %s", ", ".join(f"{a} - {b}" for a, b in self.get_collisions(state, group)))
+        return colliding
 
-    def is_state_valid(self, state: RobotState | None = None, group: str | None = None) -> bool:
+    @moveit_py_keywords(robot_state="state", joint_model_group_name="group")
+    def is_state_valid(self, state: RobotState | None = None, group: str | None = None, verbose: bool = False) -> bool:
         """Collision-free and inside the joint bounds."""
+        state, group = self._state_and_group(state, group)
         st = self._state if state is None else state
-        return st.satisfies_bounds(group) and not self.is_state_colliding(st, group)
+        return st.satisfies_bounds(group) and not self.is_state_colliding(st, group, verbose)
 
     def state_validity_checker(self, group: str | None = None):
         """A fast callable ``f(q) -> bool`` telling whether a full variable vector ``q`` is
@@ -1266,10 +1296,14 @@ class PlanningScene:
         distances = self.collision_distances(state, group, world=True, self_collision=False)
         return distances[0][0] if distances else float("inf")
 
+    @moveit_py_keywords(joint_model_group_name="group")
     def is_path_valid(self, trajectory, group: str | None = None) -> bool:
         """Whether every waypoint of a trajectory is inside its bounds and collision-free."""
+        waypoints = getattr(trajectory, "waypoints", None)
+        if waypoints is None:
+            raise TypeError(f"is_path_valid takes a RobotTrajectory, not {type(trajectory).__name__}")
         is_valid = self.state_validity_checker(group)
-        for state in trajectory.waypoints:
+        for state in waypoints:
             if not state.satisfies_bounds(group) or not is_valid(state._q):
                 return False
         return True

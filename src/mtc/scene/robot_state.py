@@ -11,6 +11,7 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
+from mtc.scene._moveit_py import moveit_py_keywords
 from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta
 
 __all__ = ["RobotState", "as_rng"]
@@ -116,6 +117,7 @@ class RobotState:
                 raise TypeError(f"joint '{name}': the position must be a number, got {v!r}") from None
         self.positions = q
 
+    @moveit_py_keywords(joint_model_group_name="group", position_values="values")
     def set_joint_group_positions(self, group: str, values) -> None:
         """Set the active variables of ``group`` (in the group's order)."""
         jmg = self._group(group)
@@ -129,6 +131,7 @@ class RobotState:
         q[jmg.variable_indices] = values
         self.positions = q
 
+    @moveit_py_keywords(joint_model_group_name="group")
     def get_joint_group_positions(self, group: str) -> np.ndarray:
         """The active variables of ``group`` as a new array."""
         return self._q[self._group(group).variable_indices].copy()
@@ -241,6 +244,7 @@ class RobotState:
             model._fk_owner = self._fk_token
         return model._data
 
+    @moveit_py_keywords(link_name="link")
     def get_global_link_transform(self, link: str) -> np.ndarray:
         """4x4 pose of a link in the model (planning) frame.
 
@@ -250,6 +254,7 @@ class RobotState:
         fid = self._model.frame_id(link)
         return self._ensure_fk().oMf[fid].homogeneous.copy()
 
+    @moveit_py_keywords(frame_id="frame")
     def get_frame_transform(self, frame: str) -> np.ndarray:
         """4x4 pose of a link, the model frame, or an attached object or one of its subframes
         (``"object"`` or ``"object/subframe"``) when the state belongs to a planning scene.
@@ -282,10 +287,12 @@ class RobotState:
             return False
         return True
 
+    @moveit_py_keywords(link_name="link")
     def get_pose(self, link: str) -> msgs.Pose:
         """Pose of a link in the model frame, as a ``msgs.Pose``."""
         return msgs.matrix_to_pose(self.get_global_link_transform(link))
 
+    @moveit_py_keywords(joint_model_group_name="group", link_name="link", reference_point_position="reference_point")
     def get_jacobian(self, group: str, link: str, reference_point: np.ndarray | None = None) -> np.ndarray:
         """6 x k Jacobian ``[linear; angular]`` of a point on ``link`` (default its origin), in
         the model frame's orientation, with respect to the group's active variables. A mimic
@@ -308,6 +315,7 @@ class RobotState:
             J[:3] -= np.cross(r, J[3:].T).T
         return J
 
+    @moveit_py_keywords(joint_model_group_name="group", geometry_pose="pose", tip_name="tip")
     def set_from_ik(self, group: str, pose, tip: str | None = None, timeout: float | None = None, **kwargs) -> bool:
         """Solve inverse kinematics for ``group`` so that ``tip`` (default: the group's end
         effector tip) reaches ``pose`` (``msgs.Pose`` or 4x4 in the model frame). On success the
