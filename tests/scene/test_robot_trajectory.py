@@ -200,6 +200,8 @@ def test_msg(panda, start):
     assert jt.joint_names == ["panda_joint1", "panda_joint2"]
     assert jt.points[2].positions == pytest.approx([0.2, -0.785])
     assert jt.points[2].velocities == [1.0, 1.0] and jt.points[2].accelerations == [2.0, 2.0]
+    # an empty filter (moveit_py's default) means every joint, as MoveIt's
+    assert traj.get_robot_trajectory_msg(joint_filter=[]).joint_trajectory.joint_names == traj.joint_names
 
 
 def test_copy_and_clear(panda, start):

@@ -99,12 +99,22 @@ def _primitive_object(name: str, pose, kind: int, dims: Iterable[float]) -> msgs
 
 class PlanningSceneInterface:
     """Edit the current scene, as moveit_commander's ``PlanningSceneInterface`` edits
-    move_group's. ``ns`` and ``synchronous`` are accepted for compatibility (edits are always
-    immediate)."""
+    move_group's. ``ns``, ``synchronous`` and ``service_timeout`` are accepted for compatibility
+    (edits are always immediate).
 
-    def __init__(self, ns: str = "", synchronous: bool = False, robot_model: RobotModel | None = None):
+    As moveit_commander's, which only sends messages to move_group, an edit the scene cannot
+    make (removing an unknown object, detaching one that is not attached, attaching an unknown
+    object or to an unknown link) raises nothing: it is logged as an error (printed on stderr
+    unless the application configures logging) and the scene stays as it was.
+    """
+
+    def __init__(self, ns: str = "", synchronous: bool = False, service_timeout: float = 5.0, *,
+                 robot_model: RobotModel | None = None):
+        if robot_model is not None and not isinstance(robot_model, RobotModel):
+            raise TypeError(f"robot_model must be a RobotModel, not {type(robot_model).__name__}")
         self.ns = ns
         self.synchronous = synchronous
+        self.service_timeout = service_timeout
         self._model = robot_model
 
     @property
@@ -133,7 +143,7 @@ class PlanningSceneInterface:
     def add_mesh(self, name: str, pose, filename: str, size=(1.0, 1.0, 1.0)) -> None:
         """A mesh loaded from ``filename`` (STL, OBJ, DAE ...), scaled by ``size``."""
         ps = _pose_stamped(pose, f"object '{name}'")
-        mesh = mesh_file_to_msg(filename, size)
+        mesh = mesh_file_to_msg(filename, size, name)
         self.add_object(
             msgs.CollisionObject(
                 header=msgs.Header(frame_id=ps.header.frame_id),
@@ -145,12 +155,18 @@ class PlanningSceneInterface:
         )
 
     def remove_world_object(self, name: str | None = None) -> None:
-        """Remove the world object ``name``, or every world object with ``None``.
+        """Remove the world object ``name``, or every world object with ``None`` (an unknown
+        name is logged, as MoveIt does)."""
+        self._logged(self.scene.apply_collision_object,
+                     msgs.CollisionObject(id=name or "", operation=msgs.CollisionObject.REMOVE))
 
-        Raises:
-            KeyError: unknown object.
-        """
-        self.add_object(msgs.CollisionObject(id=name or "", operation=msgs.CollisionObject.REMOVE))
+    @staticmethod
+    def _logged(apply, msg) -> None:
+        """``apply(msg)``; an edit the scene refuses is logged, not raised (as moveit_commander)."""
+        try:
+            apply(msg)
+        except KeyError as e:
+            log.error("PlanningSceneInterface: %s", e.args[0] if e.args else e)
 
     def clear(self) -> None:
         """Detach every attached object and remove every world object."""
@@ -159,7 +175,8 @@ class PlanningSceneInterface:
 
     # ---------------------------------------------------------------- attached objects
     def attach_object(self, attached: msgs.AttachedCollisionObject) -> None:
-        self.scene.apply_attached_collision_object(attached)
+        """Apply an AttachedCollisionObject message (attach with ADD, detach with REMOVE)."""
+        self._logged(self.scene.apply_attached_collision_object, attached)
 
     def attach_box(self, link: str, name: str, pose=None, size=(1.0, 1.0, 1.0), touch_links=()) -> None:
         """Attach a new box to ``link`` at ``pose``; without a pose, attach the existing object
@@ -182,7 +199,7 @@ class PlanningSceneInterface:
                 header=msgs.Header(frame_id=ps.header.frame_id or link),
                 pose=ps.pose,
                 id=name,
-                meshes=[mesh_file_to_msg(filename, size)],
+                meshes=[mesh_file_to_msg(filename, size, name)],
                 mesh_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
             )
         self._attach(link, obj, touch_links)
@@ -199,9 +216,9 @@ class PlanningSceneInterface:
 
     # ---------------------------------------------------------------- queries
     def get_known_object_names(self, with_type: bool = False) -> list[str]:
-        """Names of the world and attached objects."""
-        scene = self.scene
-        return [*scene.world_object_names, *scene.attached_object_names]
+        """Names of the world objects (as MoveIt's: attached ones are in
+        :meth:`get_attached_objects`). ``with_type`` is accepted; mtc's objects have no type."""
+        return list(self.scene.world_object_names)
 
     def get_objects(self, object_ids: Iterable[str] = ()) -> dict[str, msgs.CollisionObject]:
         """World objects as messages (all, or those named)."""
@@ -216,6 +233,7 @@ class PlanningSceneInterface:
         return {n: scene.get_attached_collision_object_msg(n) for n in names if n in scene.attached_object_names}
 
     def get_object_poses(self, object_ids: Iterable[str]) -> dict[str, msgs.Pose]:
-        """World poses of the named (world or attached) objects."""
+        """Poses of the named world objects (as MoveIt's; unknown and attached names are left out)."""
         scene = self.scene
-        return {n: msgs.matrix_to_pose(scene.get_frame_transform(n)) for n in object_ids if scene.has_object(n)}
+        world = set(scene.world_object_names)
+        return {n: msgs.matrix_to_pose(scene.get_frame_transform(n)) for n in object_ids if n in world}

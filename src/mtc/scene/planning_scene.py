@@ -142,9 +142,9 @@ def _mesh_geometry(mesh, object_id: str):
     return bvh
 
 
-def mesh_file_to_msg(filename: str, scale=(1.0, 1.0, 1.0)) -> msgs.Mesh:
-    """Load a mesh file into a ``msgs.Mesh`` (vertices scaled)."""
-    bvh = _mesh_geometry(MeshFile(filename, tuple(scale)), filename)
+def mesh_file_to_msg(filename: str, scale=(1.0, 1.0, 1.0), object_id: str | None = None) -> msgs.Mesh:
+    """Load a mesh file into a ``msgs.Mesh`` (vertices scaled); errors name ``object_id`` (default: the file)."""
+    bvh = _mesh_geometry(MeshFile(filename, tuple(scale)), filename if object_id is None else object_id)
     vertices = np.asarray(bvh.vertices())
     triangles = [bvh.tri_indices(i) for i in range(bvh.num_tris)]
     return msgs.Mesh(

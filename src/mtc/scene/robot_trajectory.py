@@ -225,9 +225,10 @@ class RobotTrajectory:
         self._efforts.clear()
 
     def get_robot_trajectory_msg(self, joint_filter=None) -> msgs.RobotTrajectory:
-        """As a ``msgs.RobotTrajectory`` over the group's active joints. A waypoint with
-        efforts carries them instead of its accelerations (as MoveIt's)."""
-        names = self.joint_names if joint_filter is None else [n for n in self.joint_names if n in joint_filter]
+        """As a ``msgs.RobotTrajectory`` over the group's active joints (those named in
+        ``joint_filter``, if it names any: an empty filter means all, as MoveIt's). A waypoint
+        with efforts carries them instead of its accelerations (as MoveIt's)."""
+        names = self.joint_names if not joint_filter else [n for n in self.joint_names if n in joint_filter]
         cols = [self.joint_names.index(n) for n in names]
         pos = self.positions
         points = []
