@@ -539,6 +539,17 @@ def test_missing_srdf_file(tmp_path):
         RobotModel(str(TOY_URDF), str(tmp_path / "none.srdf"))
 
 
+def test_srdf_errors_name_the_file(tmp_path):
+    """An SRDF file whose group names an unknown joint: the error names the file, the group and
+    the joint (api.md: errors from files name the file and the problem)."""
+    from scene_helpers import TOY_URDF
+
+    path = tmp_path / "bad.srdf"
+    path.write_text('<robot name="toy"><group name="g"><joint name="nojoint"/></group></robot>')
+    with pytest.raises(DescriptionError, match=r"SRDF file '.*bad.srdf': group 'g'.*'nojoint'"):
+        RobotModel(str(TOY_URDF), str(path))
+
+
 def test_group_states_without_a_group_are_ignored(caplog):
     """Pinocchio's reference configurations (a group_state with no group, as example-robot-data's
     SRDFs have them) are dropped with a warning, as MoveIt's SRDF reader does; the rest loads."""

@@ -412,12 +412,12 @@ class RobotModel:
         for vj in srdf.virtual_joints:
             if vj.child_link != self.root_link_name:
                 raise DescriptionError(
-                    f"SRDF: virtual joint '{vj.name}' connects link '{vj.child_link}', "
+                    f"{self._srdf.label}: virtual joint '{vj.name}' connects link '{vj.child_link}', "
                     f"but the URDF's root link is '{self.root_link_name}'"
                 )
             if vj.type != "fixed":
                 raise DescriptionError(
-                    f"SRDF: virtual joint '{vj.name}' has type '{vj.type}'; mtc supports 'fixed'"
+                    f"{self._srdf.label}: virtual joint '{vj.name}' has type '{vj.type}'; mtc supports 'fixed'"
                 )
             self.model_frame = vj.parent_frame
             self.virtual_joint_names.append(vj.name)
@@ -428,7 +428,7 @@ class RobotModel:
                 self._data = pm.createData()
         for name in srdf.passive_joints:
             if name not in self._joints:
-                raise DescriptionError(f"SRDF: passive joint '{name}' is not a joint of the URDF")
+                raise DescriptionError(f"{self._srdf.label}: passive joint '{name}' is not a joint of the URDF")
         self.passive_joint_names = list(srdf.passive_joints)
         self.acceleration_limits = np.full(len(self.variable_names), DEFAULT_ACCELERATION_LIMIT)
         for joint, limits in joint_limits.items():
@@ -452,11 +452,11 @@ class RobotModel:
         self._end_effectors: dict[str, EndEffector] = {}
         for e in srdf.end_effectors:
             if e.group not in self._groups:
-                raise DescriptionError(f"SRDF: end effector '{e.name}' uses unknown group '{e.group}'")
-            self._require_link(e.parent_link, f"SRDF: end effector '{e.name}'")
+                raise DescriptionError(f"{self._srdf.label}: end effector '{e.name}' uses unknown group '{e.group}'")
+            self._require_link(e.parent_link, f"{self._srdf.label}: end effector '{e.name}'")
             if e.parent_group and e.parent_group not in self._groups:
                 raise DescriptionError(
-                    f"SRDF: end effector '{e.name}' has unknown parent group '{e.parent_group}'"
+                    f"{self._srdf.label}: end effector '{e.name}' has unknown parent group '{e.parent_group}'"
                 )
             # as MoveIt: an end effector is attached to every other group holding its parent link
             # (a group without one has no end-effector tip); without a parent group in the SRDF,
@@ -477,12 +477,12 @@ class RobotModel:
         self._group_states: dict[str, dict[str, dict[str, float]]] = {}
         for s in srdf.group_states:
             if s.group not in self._groups:
-                raise DescriptionError(f"SRDF: group state '{s.name}' refers to unknown group '{s.group}'")
+                raise DescriptionError(f"{self._srdf.label}: group state '{s.name}' refers to unknown group '{s.group}'")
             group = self._groups[s.group]
             for joint in s.values:
                 if joint not in group.joint_model_names:
                     raise DescriptionError(
-                        f"SRDF: group state '{s.name}' sets joint '{joint}', "
+                        f"{self._srdf.label}: group state '{s.name}' sets joint '{joint}', "
                         f"which is not in group '{s.group}' (joints: {', '.join(group.variable_names)})"
                     )
             self._group_states.setdefault(s.group, {})[s.name] = dict(s.values)
@@ -491,7 +491,7 @@ class RobotModel:
         for a, b, _reason in srdf.disabled_collisions:
             unknown = [x for x in (a, b) if x != "*" and x not in self._link_has_geometry]
             if unknown:
-                log.warning("SRDF disables collisions of unknown link(s) %s; ignored", unknown)
+                log.warning("%s disables collisions of unknown link(s) %s; ignored", self._srdf.label, unknown)
                 continue
             self.disabled_collision_pairs.append((a, b))
 
@@ -538,7 +538,7 @@ class RobotModel:
         return order
 
     def _make_group(self, spec, specs, visiting) -> JointModelGroup:
-        context = f"SRDF: group '{spec.name}'"
+        context = f"{self._srdf.label}: group '{spec.name}'"
         if spec.name in visiting:
             raise DescriptionError(f"{context} contains itself through subgroups")
         joints: list[str] = []

@@ -65,6 +65,7 @@ class SRDF:
     """Everything an SRDF declares, in file order."""
 
     name: str = ""
+    label: str = field(default="SRDF", compare=False)  # the source in errors: "SRDF file '<path>'", "SRDF text"
     groups: list[GroupSpec] = field(default_factory=list)
     group_states: list[GroupStateSpec] = field(default_factory=list)
     end_effectors: list[EndEffectorSpec] = field(default_factory=list)
@@ -123,7 +124,7 @@ def parse_srdf(source: str) -> SRDF:
     """
     text, label = read_xml_source(source, "SRDF")
     root = parse_xml(text, label)
-    srdf = SRDF(name=root.get("name", ""))
+    srdf = SRDF(name=root.get("name", ""), label=label)
     for elem in root:
         tag = elem.tag
         if tag == "group":
