@@ -16,7 +16,7 @@ def moveit_py_keywords(**aliases: str):
     def wrap(fn):
         @functools.wraps(fn)
         def method(*args, **kwargs):
-            for alias, own in aliases.items():
+            for alias, own in aliases.items() if kwargs else ():
                 if alias in kwargs:
                     if own in kwargs:
                         raise TypeError(f"{fn.__name__}() got both {own!r} and moveit_py's name for it, {alias!r}")
