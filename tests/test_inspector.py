@@ -253,6 +253,27 @@ def test_playback_segments_rebuild_the_solution(pickplace_task):
         inspector.stop()
 
 
+def test_play_draws_the_solution_markers(pickplace_task, monkeypatch):
+    """Playing a solution in the inspector's viewer draws the markers of its parts, read back
+    from the data (grasp frames, IK targets with the end effector, motion arrows)."""
+    monkeypatch.delenv("MTC_NO_VIEWER", raising=False)
+    task = pickplace_task
+    introspection = task.introspection()
+    inspector = mi.Inspector(introspection, viewer=True)
+    try:
+        deadline = time.monotonic() + 60
+        while inspector.viewer_state()["status"] == "starting" and time.monotonic() < deadline:
+            time.sleep(0.1)
+        assert inspector.viewer_state()["status"] == "ready", inspector.viewer_state()
+        solution = task.solutions[0]
+        kinds = [m["type"] for leaf in _leaves(solution) for m in leaf.markers]
+        assert {"frame", "arrow", "links"} <= set(kinds)
+        result = inspector.play(introspection.solutionId(solution))
+        assert result["markers"] == len(kinds)
+    finally:
+        inspector.stop()
+
+
 def _leaves(solution):
     out = []
     solution._leaves(out)

@@ -642,3 +642,110 @@ def test_no_viewer_env_values(monkeypatch, value, disabled):
     """MTC_NO_VIEWER counts as set unless empty, 0, false, no or off."""
     monkeypatch.setenv("MTC_NO_VIEWER", value)
     assert viewer_module.viewer_disabled() is disabled
+
+
+# ----------------------------------------------------------------------------- markers
+def marker_nodes(tree: dict, index: int) -> list[dict]:
+    prefix = f"{ROOT_PATH}/markers/{index}/"
+    return [tree[p] for p in sorted(tree) if p.startswith(prefix) and p.count("/") == prefix.count("/")]
+
+
+def test_markers_are_drawn_in_their_frames_and_replaced(panda_viewer):
+    """Frames (three axis rods), arrows (shaft and cone, in their colour) and an end effector
+    at a target (its links' visuals, half transparent), each in its frame resolved in the
+    scene; live markers and markers read back from an introspection file draw alike. Unknown
+    kinds and frames are skipped, and the next call replaces what was drawn."""
+    import json
+
+    from mtc.core.introspection_io import _plain
+    from mtc.stages._common import arrow_marker, frame_marker
+    from mtc.stages.compute_ik import eef_marker
+
+    scene = ready_scene()
+    hand = scene.current_state.get_global_link_transform("panda_hand")
+    target = pose((0.4, 0.2, 0.3), (np.pi, 0, 0))
+    markers = [
+        frame_marker("grasp", "f", msgs.PoseStamped(header=msgs.Header(frame_id="panda_hand"),
+                                                     pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))), size=0.1),
+        arrow_marker("approach", "a", (0.0, 0.0, 0.5), (0.2, 0.0, 0.5), "red", "world"),
+        eef_marker(scene, "panda_link8", target),
+        {"type": "text", "ns": "x", "name": "unknown kind"},
+        arrow_marker("approach", "b", (0, 0, 0), (0.1, 0, 0), "green", "nowhere"),
+    ]
+    for drawn in (markers, json.loads(json.dumps(_plain(markers)))):
+        assert panda_viewer.show_markers(drawn, scene) == 3
+        tree = server_tree(panda_viewer)
+        axes = marker_nodes(tree, 0)
+        assert len(axes) == 3  # x, y, z rods from the hand's origin
+        np.testing.assert_allclose(axes[0]["transform"][:3, 3], (hand @ [0.05, 0, 0, 1])[:3], atol=1e-9)
+        np.testing.assert_allclose(axes[0]["transform"][:3, 1], hand[:3, 0], atol=1e-9)  # rod (y) along x
+        shaft, head = marker_nodes(tree, 1)
+        assert head["object"]["geometries"][0]["radiusTop"] == 0.0
+        assert head["object"]["materials"][0]["color"] == 0xD02020
+        np.testing.assert_allclose(head["transform"][:3, 1], [1.0, 0.0, 0.0], atol=1e-9)
+        links = marker_nodes(tree, 2)
+        model = scene.robot_model
+        pm = model.pinocchio_model
+        shown = [go for go in model.visual_model.geometryObjects
+                 if pm.frames[go.parentFrame].name in model.descendant_link_names("panda_link8")]
+        assert len(links) == len(shown) == 3  # hand and fingers (link8 has no visual)
+        assert all(n["object"]["materials"][0]["opacity"] == 0.5 for n in links)
+        go = shown[0]
+        offset = (pm.frames[go.parentFrame].placement.inverse() * go.placement).homogeneous
+        link_pose = target @ np.linalg.inv(scene.current_state.get_global_link_transform("panda_link8")) \
+            @ scene.current_state.get_global_link_transform(pm.frames[go.parentFrame].name)
+        np.testing.assert_allclose(links[0]["transform"], link_pose @ offset, atol=1e-9)
+        assert not marker_nodes(tree, 3)
+    panda_viewer.clear_markers()
+    assert not [p for p in server_tree(panda_viewer) if p.startswith(f"{ROOT_PATH}/markers/")]
+
+
+@pytest.fixture
+def publishing_viewer():
+    """A Panda viewer that is current_viewer() (the latest opened) for one test."""
+    v = real_viewer(panda())
+    yield v
+    v.close()
+
+
+def test_publish_draws_the_solution_markers(publishing_viewer):
+    """task.publish shows ComputeIK's markers with the solution: the target and ik frames and
+    the end effector at the target, in the scene the solution ends in."""
+    from mtc import core, stages
+    from mtc.core.execution import flatten
+
+    panda_viewer = publishing_viewer
+
+    task = core.Task()
+    task.setRobotModel(panda_viewer.robot_model)
+    task.add(stages.FixedState("start", ready_scene(panda_viewer.robot_model)))
+    task.add(stages.Connect("connect", [("panda_arm", core.JointInterpolationPlanner())]))
+    generator = stages.GeneratePose("pose")
+    generator.setMonitoredStage(task["start"])
+    generator.pose = msgs.PoseStamped(header=msgs.Header(frame_id="panda_link8"), pose=msgs.Pose(
+        position=msgs.Point(z=0.1), orientation=msgs.Quaternion(w=1.0)))
+    ik = stages.ComputeIK("ik", generator)
+    ik.group = "panda_arm"
+    ik.ik_frame = msgs.PoseStamped(header=msgs.Header(frame_id="panda_link8"))
+    task.add(ik)
+    assert task.plan()
+    solution = task.solutions[0]
+    kinds = [m["type"] for leaf in flatten(solution) for m in leaf.markers]
+    assert kinds == ["frame", "frame", "links"]
+    assert current_viewer() is panda_viewer
+    task.publish(solution)
+    tree = server_tree(panda_viewer)
+    assert len({p.split("/")[4] for p in tree if p.startswith(f"{ROOT_PATH}/markers/")}) == 3
+    # the end effector (as MTC, from the IK link's rigid parent panda_link7 down) drawn where
+    # the IK solution, the scene the solution ends in, has those links
+    end = flatten(solution)[-1].end.scene.current_state
+    model = panda_viewer.robot_model
+    pm = model.pinocchio_model
+    below = model.descendant_link_names("panda_link7")
+    shown = [go for go in model.visual_model.geometryObjects if pm.frames[go.parentFrame].name in below]
+    nodes = marker_nodes(tree, 2)
+    assert len(nodes) == len(shown) == 4  # link7, hand, fingers
+    for node, go in zip(nodes, shown):
+        offset = (pm.frames[go.parentFrame].placement.inverse() * go.placement).homogeneous
+        expected = end.get_global_link_transform(pm.frames[go.parentFrame].name) @ offset
+        np.testing.assert_allclose(node["transform"], expected, atol=1e-5)

@@ -271,7 +271,13 @@ class Inspector:
                 scene = last.end_scene if last.end_scene is not None else last.start_scene
                 if scene is not None:
                     viewer.show_scene(scene)
-            return {"id": solution_id, "duration": duration, "segments": len(segments)}
+            # the parts' markers (grasp frames, motion arrows, an end effector at an IK target),
+            # each in the scene its part ends in
+            leaves = self._data.leaves(solution_id)
+            markers = viewer.show_markers([
+                (marker, seg.end_scene if seg.end_scene is not None else seg.start_scene)
+                for leaf, seg in zip(leaves, segments) for marker in leaf.get("markers", ())])
+            return {"id": solution_id, "duration": duration, "segments": len(segments), "markers": markers}
 
     # ------------------------------------------------------------------ playback
     def segments(self, solution_id: int) -> list:

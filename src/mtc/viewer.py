@@ -640,17 +640,23 @@ def _primitive_object(prim: msgs.SolidPrimitive, color: int) -> dict:
     raise ValueError(f"unknown primitive type {prim.type} (BOX=1, SPHERE=2, CYLINDER=3, CONE=4)")
 
 
-def _visual_node(go, model: RobotModel) -> tuple[dict | None, np.ndarray]:
-    """(meshcat object, transform in its link's frame) of one visual geometry object."""
+def _visual_node(go, model: RobotModel, tint: int | None = None,
+                 opacity: float | None = None) -> tuple[dict | None, np.ndarray]:
+    """(meshcat object, transform in its link's frame) of one visual geometry object; ``tint``
+    or ``opacity`` replace its own colours (markers: a translucent or red end effector)."""
     pm = model.pinocchio_model
     frame = pm.frames[go.parentFrame]
     # Pinocchio places geometry relative to the parent joint; the node hangs under the link
     offset = (frame.placement.inverse() * go.placement).homogeneous
-    color, opacity = _color(go.meshColor if go.meshColor is not None else _DEFAULT_LINK_COLOR)
+    color, own_opacity = _color(go.meshColor if go.meshColor is not None else _DEFAULT_LINK_COLOR)
+    recolored = tint is not None or opacity is not None
+    color = color if tint is None else tint
+    opacity = own_opacity if opacity is None else opacity
     fmt = _MESH_FORMATS.get(os.path.splitext(go.meshPath)[1].lower())
     if fmt is not None and os.path.isfile(go.meshPath):
         try:
-            obj = _mesh_file_object(go.meshPath, fmt, color, opacity, own_materials=not go.overrideMaterial)
+            own = not go.overrideMaterial and not recolored
+            obj = _mesh_file_object(go.meshPath, fmt, color, opacity, own_materials=own)
             return obj, offset @ np.diag([*np.asarray(go.meshScale, dtype=float), 1.0])
         except (OSError, UnicodeDecodeError) as e:
             log.warning("cannot send mesh '%s' (%s); drawing its triangles instead", go.meshPath, e)
@@ -675,6 +681,95 @@ def _shape_node(shape, pose: np.ndarray, geometry) -> tuple[dict | None, np.ndar
             except (OSError, UnicodeDecodeError) as e:
                 log.warning("cannot send mesh '%s' (%s); drawing its triangles instead", shape.filename, e)
     return (_coal_object(geometry, _OBJECT_COLOR, 1.0) if geometry is not None else None), pose
+
+
+# =============================================================================================
+# solution markers (what MTC's stages add for RViz: frames, arrows, an end effector at a target)
+# =============================================================================================
+
+_MARKER_COLORS = {"green": 0x20A020, "red": 0xD02020}
+_AXIS_COLORS = (0xD02020, 0x20A020, 0x2040D0)  # x, y, z as RViz draws axes
+
+
+def _rotation_y_to(u: np.ndarray) -> np.ndarray:
+    """A rotation taking the y axis (three.js cylinders') onto the unit vector ``u``."""
+    helper = np.array([1.0, 0.0, 0.0]) if abs(u[0]) < 0.9 else np.array([0.0, 0.0, 1.0])
+    x = np.cross(u, helper)
+    x /= np.linalg.norm(x)
+    return np.column_stack([x, u, np.cross(x, u)])
+
+
+def _rod(p0: np.ndarray, p1: np.ndarray, radius: float, color: int, opacity: float = 1.0,
+         cone: bool = False) -> tuple[dict, np.ndarray] | None:
+    """A cylinder (or a cone with its tip at ``p1``) from ``p0`` to ``p1``: (object, pose)."""
+    import meshcat.geometry as mg
+
+    d = np.asarray(p1, dtype=float) - np.asarray(p0, dtype=float)
+    length = float(np.linalg.norm(d))
+    if length < 1e-9:
+        return None
+    geometry = (mg.Cylinder(length, radiusTop=0.0, radiusBottom=2.0 * radius) if cone
+                else mg.Cylinder(length, radius))
+    T = np.eye(4)
+    T[:3, :3] = _rotation_y_to(d / length)
+    T[:3, 3] = (np.asarray(p0, dtype=float) + np.asarray(p1, dtype=float)) / 2.0
+    return _mesh_object(geometry.lower({}), _material(color, opacity)), T
+
+
+def _marker_parts(model: RobotModel, marker: dict) -> tuple[str, list[tuple[dict, np.ndarray]]] | None:
+    """``(frame id, [(meshcat object, pose in that frame)])`` of one solution marker, as the
+    stages make them (``{"type": "frame" | "arrow" | "links", ...}``, live or read back from an
+    introspection file); None for a marker the viewer does not draw."""
+    kind = marker.get("type") if isinstance(marker, dict) else None
+    parts: list[tuple[dict, np.ndarray]] = []
+    if kind == "frame":
+        pose = marker["pose"]
+        if isinstance(pose, dict):
+            pose = msgs.from_dict(msgs.PoseStamped, pose)
+        size = float(marker.get("size", 0.1))
+        T = msgs.pose_to_matrix(pose.pose)
+        for axis, color in enumerate(_AXIS_COLORS):
+            rod = _rod(T[:3, 3], T[:3, 3] + size * T[:3, axis], 0.04 * size, color)
+            if rod is not None:
+                parts.append(rod)
+        return pose.header.frame_id, parts
+    if kind == "arrow":
+        start, end = np.asarray(marker["start"], dtype=float), np.asarray(marker["end"], dtype=float)
+        length = float(np.linalg.norm(end - start))
+        if length < 1e-9:
+            return None
+        color = _MARKER_COLORS.get(marker.get("color"), _MARKER_COLORS["green"])
+        radius = min(0.005, 0.05 * length)
+        head = end - (end - start) * min(1.0, 4.0 * radius / length)
+        parts = [p for p in (_rod(start, head, radius, color), _rod(head, end, radius, color, cone=True)) if p]
+        return marker.get("frame_id", ""), parts
+    if kind == "links":
+        color = _MARKER_COLORS.get(marker.get("color"))
+        opacity = float(marker.get("opacity", 0.5))
+        pm = model.pinocchio_model
+        poses = {link: np.asarray(T, dtype=float).reshape(4, 4) for link, T in marker["links"].items()}
+        for go in model.visual_model.geometryObjects:
+            link = pm.frames[go.parentFrame].name
+            if link in poses:
+                obj, offset = _visual_node(go, model, color, opacity)
+                if obj is not None:
+                    parts.append((obj, poses[link] @ offset))
+        return marker.get("frame_id", ""), parts
+    return None
+
+
+def _frame_in(scene: PlanningScene | None, frame_id: str) -> np.ndarray | None:
+    """Pose of ``frame_id`` in the planning frame (identity for it or ""); None if unknown."""
+    if not frame_id or scene is None and frame_id in ("world",):
+        return np.eye(4)
+    if scene is None:
+        return None
+    if frame_id == scene.planning_frame:
+        return np.eye(4)
+    try:
+        return scene.get_frame_transform(frame_id)
+    except KeyError:
+        return None
 
 
 # =============================================================================================
@@ -972,6 +1067,46 @@ class Viewer:
         self._scene = scene.copy()
         self.show_state(state)
 
+    def show_markers(self, markers: Iterable, scene: PlanningScene | None = None) -> int:
+        """Draw solution markers, as MTC's RViz panel shows a solution's: coordinate frames
+        (grasp and target poses), arrows (Cartesian motions, corrections; green or red) and an
+        end effector placed at an IK target. They replace the markers drawn before.
+
+        Args:
+            markers: marker dicts as stages make them (``solution.markers``, also as read back
+                from an introspection file), or ``(marker, scene)`` pairs.
+            scene: resolves the markers' frames (links, objects) where no pair gives one;
+                default: the scene shown last.
+
+        Returns:
+            How many markers were drawn (kinds the viewer does not know and frames it cannot
+            resolve are skipped).
+        """
+        self._require_open()
+        self._send_delete("markers")
+        drawn = 0
+        for entry in markers:
+            marker, where = entry if isinstance(entry, tuple) else (entry, None)
+            where = where or scene or self._scene
+            found = _marker_parts(self._model, marker)
+            if found is None:
+                continue
+            frame_id, parts = found
+            T = _frame_in(where, frame_id)
+            if T is None or not parts:
+                log.debug("marker %r: frame '%s' unknown here; not drawn", marker.get("name"), frame_id)
+                continue
+            for k, (obj, P) in enumerate(parts):
+                self._send_object(f"markers/{drawn}/{k}", obj)
+                self._send_transform(f"markers/{drawn}/{k}", T @ P)
+            drawn += 1
+        return drawn
+
+    def clear_markers(self) -> None:
+        """Remove the markers :meth:`show_markers` drew."""
+        self._require_open()
+        self._send_delete("markers")
+
     def play(self, trajectory_or_segments: Any, fps: float | None = None, repetitions: int = 1) -> float:
         """Animate a trajectory, or a list of segments (see :meth:`play_segments`).
 
@@ -1197,6 +1332,12 @@ class NullViewer(Viewer):
         pass
 
     def show_scene(self, scene) -> None:
+        pass
+
+    def show_markers(self, markers, scene=None) -> int:
+        return 0
+
+    def clear_markers(self) -> None:
         pass
 
     def play(self, trajectory_or_segments, fps=None, repetitions=1) -> float:

@@ -260,6 +260,7 @@ def test_eef_in_collision(make_task, box):
     (failure,) = ik.failures
     assert failure.comment.startswith(" eef in collision: obstacle - panda_hand")
     assert "obstacle - panda_leftfinger" in failure.comment
+    assert [m.get("color") for m in failure.markers if m["type"] == "links"] == ["red"]
 
 
 def test_eef_in_collision_comment_starts_with_the_upstream_comment(make_task, box):
@@ -301,6 +302,26 @@ def test_no_ik_found(make_task):
     task, ik = _ik_task(make_task, _pose("world", x=2.0, z=0.5))
     assert not task.plan()
     assert [f.comment for f in ik.failures] == [" no IK found"]
+    # as MTC, the end effector placed at the target is drawn red
+    (eef,) = [m for m in ik.failures[0].markers if m["type"] == "links"]
+    assert eef["ns"] == "ik target" and eef["color"] == "red"
+
+
+def test_end_effector_marker_at_the_target(make_task):
+    """Every solution carries MTC's "ik target" marker: the IK link's rigid parent and the
+    links below it (panda_link7 down, for an ik_frame on panda_link8) placed as the solution
+    has them, half transparent; besides the target and ik frames."""
+    task, ik = _ik_task(make_task, _pose("world", x=0.4, z=0.4, q=(1.0, 0.0, 0.0, 0.0)))
+    assert task.plan()
+    solution = ik.solutions[0]
+    names = [(m["ns"], m["name"]) for m in solution.markers]
+    assert names[:2] == [(ik.markerNS(), "target frame"), (ik.markerNS(), "ik frame")]
+    (eef,) = [m for m in solution.markers if m["type"] == "links"]
+    assert eef["ns"] == "ik target" and eef["opacity"] == 0.5 and "color" not in eef
+    state = solution.end.scene.current_state
+    assert set(eef["links"]) == set(state.robot_model.descendant_link_names("panda_link7"))
+    for link, T in eef["links"].items():
+        np.testing.assert_allclose(T, state.get_global_link_transform(link), atol=1e-6)
 
 
 def test_colliding_solution(make_task, sphere):

@@ -206,4 +206,9 @@ def publish(solution: SolutionBase) -> bool:
         for leaf in leaves
     ]
     viewer.play(segments)
+    from mtc.core.export import markers_of  # (export imports this module)
+
+    # the parts' markers, each in the scene its part ends in (where its frames are)
+    viewer.show_markers([(marker, end or start) for leaf, (_, start, end) in zip(leaves, segments)
+                         for marker in markers_of(leaf)])
     return True

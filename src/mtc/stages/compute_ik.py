@@ -74,6 +74,18 @@ def eef_collisions(scene, link: str, link_target: np.ndarray) -> list[tuple[str,
     return scene.get_link_collisions_at(link, link_target)
 
 
+def eef_marker(scene, link: str, link_target: np.ndarray) -> dict:
+    """MTC's "ik target" marker: ``link`` and the links below it (the end effector, as the
+    viewer draws them, half transparent) placed so that ``link`` lies at ``link_target``
+    (4x4, planning frame), the rest of the state as in ``scene``."""
+    state = scene.current_state
+    shift = link_target @ rigid_inverse(state.get_global_link_transform(link))
+    links = {name: shift @ state.get_global_link_transform(name)
+             for name in scene.robot_model.descendant_link_names(link)}
+    return {"type": "links", "ns": "ik target", "name": link, "frame_id": scene.planning_frame,
+            "links": links, "opacity": 0.5}
+
+
 class ComputeIK(WrapperBase):
     """Solve IK for the target poses of the wrapped generator's states.
 
@@ -268,8 +280,11 @@ class ComputeIK(WrapperBase):
             link, frame_offset = model.root_link_name, np.eye(4)
         offset = frame_offset @ msgs.pose_to_matrix(ik_frame.pose)
         link_target = target @ rigid_inverse(offset)
+        eef = eef_marker(scene, link, link_target)
         markers = [frame_marker(self.markerNS(), "target frame", target_msg),
-                   frame_marker(self.markerNS(), "ik frame", ik_frame)]
+                   frame_marker(self.markerNS(), "ik frame", ik_frame), eef]
+        # as MTC, the end effector at a target that fails is drawn red
+        failed_markers = [*markers[:2], dict(eef, color="red")]
 
         # 5. the end effector alone at the target must not collide with the world
         ignore_collisions = p.get("ignore_collisions")
@@ -278,7 +293,7 @@ class ComputeIK(WrapperBase):
             if pairs:
                 # (semantics §2.3: the upstream comment, then " eef in collision: a - b, c - d")
                 pairs = sorted(tuple(sorted(p[:2])) for p in pairs)
-                self._fail(s, f"{s.comment} eef in collision: {format_collision_pairs(pairs)}", markers=markers)
+                self._fail(s, f"{s.comment} eef in collision: {format_collision_pairs(pairs)}", markers=failed_markers)
                 return
 
         # 6. reference for the cost
@@ -288,7 +303,7 @@ class ComputeIK(WrapperBase):
             solver = ik_module.get_ik_solver(model, jmg.name, link)
         except ValueError:
             # no variable of the group moves the IK frame
-            self._fail(s, f"{s.comment} no IK found", markers=markers)
+            self._fail(s, f"{s.comment} no IK found", markers=failed_markers)
             return
         start_q = scene.current_state.positions.copy()
         reference = start_q.copy()
@@ -359,7 +374,7 @@ class ComputeIK(WrapperBase):
 
         # 8. nothing at all
         if not recorded:
-            self._fail(s, f"{s.comment} no IK found", markers=markers)
+            self._fail(s, f"{s.comment} no IK found", markers=failed_markers)
 
     def _spawn_candidate(self, s: SolutionBase, q: np.ndarray, jmg, ignore_collisions: bool, constraint_set,
                          solver, reference: np.ndarray, markers) -> bool:
