@@ -119,8 +119,8 @@ CERTIFY_MIN_MARGIN = 1e-6
 #: of the same state checks.
 CERTIFY_FREE_CHECK = 1e-2
 #: Start states outside the bounds by at most this much are moved onto them [rad or m]
-#: (MoveIt's ``start_state_max_bounds_error``).
-START_STATE_MAX_BOUNDS_ERROR = 0.05
+#: (``start_state_max_bounds_error`` of MoveIt's Panda configuration).
+START_STATE_MAX_BOUNDS_ERROR = 0.1
 #: Random shortcuts stop after this many tries in a row without a gain; the greedy pass before
 #: them tries every vertex once. Each random shortcut adds two vertices that hug the obstacles,
 #: and every edge of the result is proven collision-free in full: on the MotionBenchMaker box
@@ -143,6 +143,9 @@ MIN_WAYPOINT_COUNT = 10
 POSE_GOAL_SAMPLES = 4
 #: IK attempts (random restarts) for those goals.
 POSE_GOAL_IK_ATTEMPTS = 200
+#: States drawn within the tolerance of an invalid joint goal (MoveIt's goal region) to find
+#: valid goals in its place.
+GOAL_REGION_SAMPLES = 200
 #: Further IK attempts for a first goal where those found none: the valid solutions of a
 #: hand deep in a narrow place can be rare (one MotionBenchMaker-like goal in front of a can
 #: on a cluttered table had none in its first 200 and one among the next 200).
@@ -260,10 +263,19 @@ def resolve_planner_id(planner_id: str | None) -> str:
         planner_id = DEFAULT_PLANNER
     if not isinstance(planner_id, str):
         raise TypeError(f"planner id must be a string, not {type(planner_id).__name__}")
+    if planner_id.endswith("]") and "[" in planner_id:
+        # MoveIt's per-group configuration name, "panda_arm[RRTConnectkConfigDefault]"
+        planner_id = planner_id[planner_id.index("[") + 1 : -1]
     try:
         return _PLANNERS[planner_id]
     except KeyError:
         ids = sorted(k for k in _PLANNERS if k.endswith("kConfigDefault"))
+        base = planner_id.removeprefix("geometric::").removesuffix("kConfigDefault")
+        if base in _MOVEIT_NAMES:
+            raise ValueError(
+                f"OMPL planner '{planner_id}' is one of MoveIt's, but the installed OMPL Python bindings "
+                f"do not offer {_MOVEIT_NAMES[base]} (available: {', '.join(ids)})"
+            ) from None
         raise ValueError(
             f"unknown OMPL planner id '{planner_id}' (known: {', '.join(ids)}; the plain OMPL names "
             f"such as 'RRTConnect' work too)"
@@ -950,9 +962,31 @@ class OMPLPipeline:
             return failure
         x_goal = goal.positions[req.group.variable_indices].astype(float)
         failure = self._check_goal(req, x_goal, "goal state")
+        goals = [x_goal]
         if failure is not None:
-            return self._fail(req, failure)
-        return self._solve(req, [x_goal], cls_name, attempts, goal_joint_tolerance, seed)
+            # as MoveIt, whose joint goal is the region within the tolerance of every joint:
+            # an invalid goal state is replaced by valid ones sampled in that region
+            goals = [] if failure.startswith("GOAL_STATE_INVALID") else \
+                self._joint_goal_region(req, x_goal, goal_joint_tolerance, seed)
+            if not goals:
+                return self._fail(req, failure)
+        return self._solve(req, goals, cls_name, attempts, goal_joint_tolerance, seed)
+
+    def _joint_goal_region(self, req: _Request, x_goal: np.ndarray, tolerance: float, seed: int) -> list[np.ndarray]:
+        """Up to :data:`POSE_GOAL_SAMPLES` valid states within ``tolerance`` of every joint of
+        ``x_goal`` (and its bounds), closest first, from :data:`GOAL_REGION_SAMPLES` seeded
+        draws; none if the region holds no valid state there."""
+        lo, hi = self._group_bounds(req.scene.robot_model, req.group.variable_indices)
+        lo, hi = np.maximum(lo, x_goal - tolerance), np.minimum(hi, x_goal + tolerance)
+        if not np.all(hi > lo):
+            return []
+        rng = np.random.default_rng([int(seed), 3])
+        found = []
+        for x in rng.uniform(lo, hi, (GOAL_REGION_SAMPLES, len(x_goal))):
+            if req.checker.state_ok(x) and np.all(x >= req.lower - 1e-12) and np.all(x <= req.upper + 1e-12):
+                found.append(x)
+        found.sort(key=lambda x: float(np.abs(x - x_goal).max()))
+        return found[:POSE_GOAL_SAMPLES]
 
     def plan_pose(
         self,
