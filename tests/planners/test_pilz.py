@@ -131,8 +131,11 @@ def test_ptp_start_and_goal_checks(ready_scene, add_box):
     result, _ = _pilz("PTP").plan(blocked, goal, ARM, 1.0)
     assert result.message.startswith("START_STATE_IN_COLLISION: ") and "at_start" in result.message
     far = _goal(ready_scene, panda_joint1=3.5)
-    result, _ = _pilz("PTP").plan(ready_scene, far, ARM, 1.0)
-    assert result.message == "GOAL_STATE_INVALID: goal outside the bounds of panda_joint1"
+    # as Pilz, for every planner (LIN would otherwise go to the tip's pose of that joint goal)
+    for planner in ("PTP", "LIN"):
+        result, traj = _pilz(planner).plan(ready_scene, far, ARM, 1.0)
+        assert result.message == "INVALID_GOAL_CONSTRAINTS: joint goal outside the limits of panda_joint1"
+        assert traj is None
 
 
 def test_ptp_path_constraints(ready_scene):

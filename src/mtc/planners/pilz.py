@@ -95,6 +95,16 @@ def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
     return pin.exp3(np.asarray(axis, dtype=float) * angle)
 
 
+def _check_goal_bounds(model, jmg, goal_q) -> None:
+    """Raise Pilz's INVALID_GOAL_CONSTRAINTS for a joint goal beyond the group's limits."""
+    idx = jmg.variable_indices
+    lo, hi = model.lower_bounds[idx], model.upper_bounds[idx]
+    values = np.asarray(goal_q)[idx]
+    if np.any(values < lo - 1e-9) or np.any(values > hi + 1e-9):
+        names = [n for n, v, a, b in zip(jmg.variable_names, values, lo, hi) if v < a - 1e-9 or v > b + 1e-9]
+        raise _Failure(error_message("INVALID_GOAL_CONSTRAINTS", f"joint goal outside the limits of {', '.join(names)}"))
+
+
 class _Failure(Exception):
     """Ends a planning request with a message (and maybe the valid part of the path)."""
 
@@ -159,6 +169,11 @@ class PilzPipeline:
                                   max_acceleration_scaling_factor),
                 start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor,
             )
+        try:
+            # as Pilz, for every planner: a joint goal beyond the limits is refused
+            _check_goal_bounds(self.robot_model, jmg, goal.positions)
+        except _Failure as f:
+            return PlannerResult(False, f.message), None
         tips = jmg.ik_tips
         if len(tips) != 1:
             return PlannerResult(False, error_message(
@@ -254,9 +269,7 @@ class PilzPipeline:
             raise _Failure(error_message("START_STATE_VIOLATES_PATH_CONSTRAINTS"))
         if not check_goal:
             return
-        if np.any(goal_q[idx] < lo - 1e-9) or np.any(goal_q[idx] > hi + 1e-9):
-            names = [n for n, v, a, b in zip(jmg.variable_names, goal_q[idx], lo, hi) if v < a - 1e-9 or v > b + 1e-9]
-            raise _Failure(error_message("GOAL_STATE_INVALID", f"goal outside the bounds of {', '.join(names)}"))
+        _check_goal_bounds(model, jmg, goal_q)
         if not validity.collision_free(goal_q):
             raise _Failure(error_message("GOAL_IN_COLLISION", validity.collision_detail(goal_q)))
         if not validity.constraints_satisfied(goal_q):
