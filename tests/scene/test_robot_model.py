@@ -153,7 +153,7 @@ def test_toy_robot(toy):
     assert toy.pinocchio_model.nq == 3
     assert toy.continuous_mask.all()
     assert np.all(np.isinf(toy.lower_bounds)) and np.all(np.isinf(toy.upper_bounds))
-    assert toy.acceleration_limits.tolist() == [3.0, 3.0, 3.0]  # the default where nothing says otherwise
+    assert toy.acceleration_limits.tolist() == [1.0, 1.0, 1.0]  # the default where nothing says otherwise
     assert toy.velocity_limits.tolist() == [1.0, 1.0, 1.0]
     group = toy.get_joint_model_group("group")
     assert group.variable_names == ["base-link1-joint", "link1-link2-joint"]
@@ -264,7 +264,7 @@ def test_joint_limits_override(toy):
 
     model = RobotModel(str(TOY_URDF), str(TOY_SRDF), joint_limits={"link1-link2-joint": {"max_velocity": 2.5, "max_acceleration": 7.0}})
     assert model.velocity_limits.tolist() == [1.0, 2.5, 1.0]
-    assert model.acceleration_limits.tolist() == [3.0, 7.0, 3.0]
+    assert model.acceleration_limits.tolist() == [1.0, 7.0, 1.0]
     with pytest.raises(KeyError, match="unknown joint 'nope'"):
         RobotModel(str(TOY_URDF), str(TOY_SRDF), joint_limits={"nope": {"max_velocity": 1.0}})
 

@@ -34,8 +34,9 @@ __all__ = [
     "unwrap_path",
 ]
 
-#: Acceleration limit used where neither the URDF nor ``joint_limits`` gives one [rad/s^2 or m/s^2].
-DEFAULT_ACCELERATION_LIMIT = 3.0
+#: Acceleration limit used where neither the URDF nor ``joint_limits`` gives one [rad/s^2 or m/s^2]
+#: (MoveIt's time parameterization uses 1 there too).
+DEFAULT_ACCELERATION_LIMIT = 1.0
 #: Velocity limit used where the URDF gives none (or zero) [rad/s or m/s].
 DEFAULT_VELOCITY_LIMIT = 1.0
 #: Default time budget of one IK call for a group [s].
