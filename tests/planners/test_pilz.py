@@ -181,6 +181,23 @@ def test_lin_straight_line_with_trapezoidal_speed(panda, ready_scene):
     assert np.allclose(traj.velocities[0], 0) and np.allclose(traj.velocities[-1], 0)
 
 
+def test_lin_brakes_as_it_accelerates(ready_scene):
+    """As Pilz (KDL's symmetric trapezoid at max_trans_acc): the speed profile of a short LIN
+    is symmetric in time (it brakes as it accelerates, not at max_trans_dec)."""
+    T1 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1[:3, 3] += [0.0, 0.0, 0.05]
+    result, traj = _pilz("LIN", 1.0, 0.1).plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
+    assert result
+    P = _tip_positions(traj)
+    mid = (traj.times[1:] + traj.times[:-1]) / 2
+    speed = np.linalg.norm(np.diff(P, axis=0), axis=1) / np.diff(traj.times)
+    duration = traj.times[-1]
+    # at least bang-bang at 0.1 x 2.25 m/s^2 over 5 cm (the scaled joint limits may slow the
+    # whole motion uniformly, which keeps its shape)
+    assert duration >= 2 * np.sqrt(0.05 / 0.225) * 0.99
+    np.testing.assert_allclose(np.interp(duration - mid, mid, speed), speed, atol=0.02 * speed.max())
+
+
 def test_lin_joint_goal_goes_to_the_tips_pose(ready_scene):
     """LIN with a joint goal moves the group's tip straight to its pose in the goal state."""
     goal = _goal(ready_scene, panda_joint1=0.3)

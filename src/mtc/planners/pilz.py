@@ -73,9 +73,11 @@ class CartesianLimits:
     Attributes:
         max_trans_vel: translational speed [m/s].
         max_trans_acc: translational acceleration [m/s^2].
-        max_trans_dec: translational deceleration [m/s^2] (negative).
+        max_trans_dec: translational deceleration [m/s^2] (negative). Kept from the YAML
+            file, but, as in Pilz, LIN and CIRC brake at ``max_trans_acc``: their profile is
+            KDL's symmetric trapezoid.
         max_rot_vel: rotational speed [rad/s]; the rotational acceleration is
-            ``max_trans_acc / max_trans_vel * max_rot_vel`` (and likewise the deceleration).
+            ``max_trans_acc / max_trans_vel * max_rot_vel``.
     """
 
     max_trans_vel: float = 1.0
@@ -430,10 +432,11 @@ class PilzPipeline:
             return pin.SE3(quat0.slerp(s, quat1).matrix(), position(s))
 
         lim = self.cartesian_limits
-        trans_v, trans_a, trans_d = lim.max_trans_vel * vs, lim.max_trans_acc * acs, -lim.max_trans_dec * acs
+        # as Pilz, whose LIN and CIRC use KDL's symmetric trapezoid: braking at max_trans_acc too
+        trans_v, trans_a = lim.max_trans_vel * vs, lim.max_trans_acc * acs
         rot_v = lim.max_rot_vel * vs
         rot_a = lim.max_trans_acc / lim.max_trans_vel * lim.max_rot_vel * acs
-        rot_d = -lim.max_trans_dec / lim.max_trans_vel * lim.max_rot_vel * acs
+        trans_d, rot_d = trans_a, rot_a
         # limits on the path fraction s in [0, 1] (whichever of translation and rotation is slower)
         v_s, a_s, d_s = math.inf, math.inf, math.inf
         if length > 1e-9:
