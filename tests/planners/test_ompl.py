@@ -766,6 +766,32 @@ def test_joint_goal_tolerance_is_a_region(ready_scene, add_box, pipeline):
     np.testing.assert_array_equal(ends[0], ends[1])
 
 
+def test_pose_goal_tolerance_is_a_region(ready_scene, add_box, pipeline):
+    """As MoveIt's pose goal (within goal_position_tolerance and goal_orientation_tolerance):
+    the hand's pose with its fingers 2 mm into a plate has no valid IK solution at 1e-4, and
+    with 1 cm the plan ends at a valid state whose link8 is within 1 cm of the target."""
+    goal = _state(ready_scene, panda_joint1=1.2)
+    tcp = goal.get_global_link_transform("panda_hand_tcp")[:3, 3]
+    z = tcp[2] - 0.1
+    probe = ready_scene.diff()
+    while True:
+        add_box(probe, "plate", (tcp[0], tcp[1], z), (0.1, 0.1, 0.02))
+        if probe.is_state_colliding(goal):
+            break
+        z += 0.0005
+    add_box(ready_scene, "plate", (tcp[0], tcp[1], z + 0.002), (0.1, 0.1, 0.02))
+    target = goal.get_global_link_transform("panda_link8")
+    start = ready_scene.current_state
+    result, traj = pipeline.plan_pose(ready_scene, start, "panda_link8", np.eye(4), target, ARM)
+    assert result.message.startswith("NO_IK_SOLUTION: no valid goal state") and traj is None
+    result, traj = pipeline.plan_pose(ready_scene, start, "panda_link8", np.eye(4), target, ARM,
+                                      goal_position_tolerance=0.01, goal_orientation_tolerance=0.01)
+    assert result, result.message
+    end = traj[len(traj) - 1]
+    assert not ready_scene.is_state_colliding(end)
+    assert np.linalg.norm(end.get_global_link_transform("panda_link8")[:3, 3] - target[:3, 3]) <= 0.01 + 1e-9
+
+
 def test_a_goal_touching_an_obstacle_fails_at_once(pipeline, ready_scene):
     """A goal closer to an obstacle than the proof resolves (here 0.1 µm: valid, yet no motion to
     it can be proven free) fails at once with GOAL_IN_COLLISION instead of at the timeout; the

@@ -1216,9 +1216,9 @@ class OMPLPipeline:
         rng = np.random.default_rng([int(seed), 1])
         tolerance = min(pos_tol, rot_tol, 1e-6) if min(pos_tol, rot_tol) > 0 else 1e-9
 
-        def sample(attempts: int, wanted: int) -> list[np.ndarray]:
+        def sample(attempts: int, wanted: int, aim: np.ndarray = link_target) -> list[np.ndarray]:
             solutions = solver.solve(
-                link_target, req.base, timeout=max(0.0, req.deadline - time.perf_counter()), rng=rng,
+                aim, req.base, timeout=max(0.0, req.deadline - time.perf_counter()), rng=rng,
                 is_valid=is_valid, max_solutions=wanted, max_attempts=attempts, tolerance=tolerance,
             )
             goals = []
@@ -1234,6 +1234,13 @@ class OMPLPipeline:
         if not goals and (rejected["invalid"] or rejected["bounds"]):
             # IK solutions, but none valid (a goal in a narrow place): one valid goal from more
             goals = sample(POSE_GOAL_IK_MORE_ATTEMPTS, 1)
+        if not goals and rejected["invalid"]:
+            # as MoveIt, whose pose goal is the region within the position and orientation
+            # tolerances: poses drawn in it, one IK descent each, until one has a valid solution
+            for aim in _poses_within(link_target, pos_tol, rot_tol, GOAL_REGION_SAMPLES, rng):
+                goals = sample(1, 1, aim)
+                if goals or time.perf_counter() > req.deadline:
+                    break
         if goals:
             return goals, ""
         if rejected["invalid"] or rejected["bounds"]:
@@ -1507,6 +1514,18 @@ class OMPLPipeline:
                          share=None, max_checks: int | None = None):
         return _constrained_rrt_connect(req, x_start, goals, np.random.default_rng([int(seed), 3]), self.resolution,
                                         max_checks)
+
+
+def _poses_within(T: np.ndarray, pos_tol: float, rot_tol: float, n: int, rng: np.random.Generator):
+    """``n`` poses within ``pos_tol`` [m] (a ball) and ``rot_tol`` [rad] (about a random
+    axis) of the 4x4 pose ``T``, drawn uniformly in distance and angle (as MoveIt's pose-goal
+    sampling around the target)."""
+    for _ in range(n):
+        out = T.copy()
+        axis = rng.normal(size=3)
+        out[:3, 3] += pos_tol * rng.uniform() * axis / max(np.linalg.norm(axis), 1e-12)
+        out[:3, :3] = T[:3, :3] @ msgs.axis_angle_matrix(rng.normal(size=3), rot_tol * rng.uniform())
+        yield out
 
 
 def _wedged_goal_projection(req: _Request, goal: np.ndarray) -> np.ndarray | None:
