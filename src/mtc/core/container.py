@@ -1039,6 +1039,19 @@ def _neighbour_hint(first: str, second: str, flags1: int, flags2: int) -> str:
     return ""
 
 
+def overlapping_joints(groups) -> list[str]:
+    """The variables that more than one of ``groups`` moves, in order (a group listed twice
+    overlaps itself): what keeps MTC's ``merge`` from merging them."""
+    seen: set[str] = set()
+    overlap = []
+    for g in groups:
+        for v in g.variable_names:
+            if v in seen and v not in overlap:
+                overlap.append(v)
+            seen.add(v)
+    return overlap
+
+
 def merge_trajectories(trajectories: list, start_state, time_parameterization=None):
     """Merge trajectories of disjoint joint groups into one (MTC's ``task_constructor::merge``).
 
@@ -1063,13 +1076,7 @@ def merge_trajectories(trajectories: list, start_state, time_parameterization=No
     # one group per trajectory, as MTC: two trajectories of the same group overlap in all its
     # joints (merging them would interleave their waypoints)
     groups = [t.group for t in trajectories]
-    seen: set[str] = set()
-    overlap = []
-    for g in groups:
-        for v in g.variable_names:
-            if v in seen and v not in overlap:
-                overlap.append(v)
-            seen.add(v)
+    overlap = overlapping_joints(groups)
     if overlap:
         raise MergeError("overlapping joints: " + ", ".join(overlap))
     merged = RobotTrajectory(model, model.merged_group([g.name for g in groups]))

@@ -12,7 +12,7 @@ import logging
 from enum import IntEnum
 
 from mtc import msgs
-from mtc.core.container import MergeError, merge_trajectories
+from mtc.core.container import MergeError, merge_trajectories, overlapping_joints
 from mtc.core.cost_terms import PathLength
 from mtc.core.stage import Connecting, InitStageError
 from mtc.core.storage import InterfaceState, SolutionSequence, SubTrajectory
@@ -140,13 +140,7 @@ class Connect(Connecting):
         self._merging = False
         if len(groups) >= 2:
             # as MTC: a group listed twice overlaps itself, which rules out merging too
-            seen: set[str] = set()
-            overlap = []
-            for jmg in groups:
-                for v in jmg.variable_names:
-                    if v in seen and v not in overlap:
-                        overlap.append(v)
-                    seen.add(v)
+            overlap = overlapping_joints(groups)
             if overlap:
                 log.info("%s: overlapping joints: %s. Disabling merging.", self.name, ", ".join(overlap))
             else:
