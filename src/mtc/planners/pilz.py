@@ -97,14 +97,11 @@ def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
     return pin.exp3(np.asarray(axis, dtype=float) * angle)
 
 
-def _check_goal_bounds(model, jmg, goal_q) -> None:
-    """Raise Pilz's INVALID_GOAL_CONSTRAINTS for a joint goal beyond the group's limits."""
+def _outside_bounds(model, jmg, q) -> list[str]:
+    """The group's variables of the full vector ``q`` that lie beyond their limits."""
     idx = jmg.variable_indices
-    lo, hi = model.lower_bounds[idx], model.upper_bounds[idx]
-    values = np.asarray(goal_q)[idx]
-    if np.any(values < lo - 1e-9) or np.any(values > hi + 1e-9):
-        names = [n for n, v, a, b in zip(jmg.variable_names, values, lo, hi) if v < a - 1e-9 or v > b + 1e-9]
-        raise _Failure(error_message("INVALID_GOAL_CONSTRAINTS", f"joint goal outside the limits of {', '.join(names)}"))
+    values, lo, hi = np.asarray(q)[idx], model.lower_bounds[idx], model.upper_bounds[idx]
+    return [n for n, v, a, b in zip(jmg.variable_names, values, lo, hi) if v < a - 1e-9 or v > b + 1e-9]
 
 
 class _Failure(Exception):
@@ -165,17 +162,16 @@ class PilzPipeline:
         max_velocity_scaling_factor = check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
         max_acceleration_scaling_factor = check_scaling_factor(
             "max_acceleration_scaling_factor", max_acceleration_scaling_factor)
+        outside = _outside_bounds(self.robot_model, jmg, goal.positions)
+        if outside:  # as Pilz, for every planner
+            return PlannerResult(False, error_message(
+                "INVALID_GOAL_CONSTRAINTS", f"joint goal outside the limits of {', '.join(outside)}")), None
         if planner_id == "PTP":
             return self._run(
                 lambda: self._ptp(scene, start, goal, jmg, path_constraints, max_velocity_scaling_factor,
                                   max_acceleration_scaling_factor),
                 start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor,
             )
-        try:
-            # as Pilz, for every planner: a joint goal beyond the limits is refused
-            _check_goal_bounds(self.robot_model, jmg, goal.positions)
-        except _Failure as f:
-            return PlannerResult(False, f.message), None
         tips = jmg.ik_tips
         if len(tips) != 1:
             return PlannerResult(False, error_message(
@@ -260,10 +256,7 @@ class PilzPipeline:
             return PlannerResult(False, failure.message), traj
 
     def _check_endpoints(self, validity: PathValidity, start_q, goal_q, jmg, check_goal=True):
-        model = self.robot_model
-        idx = jmg.variable_indices
-        lo, hi = model.lower_bounds[idx], model.upper_bounds[idx]
-        if np.any(start_q[idx] < lo - 1e-9) or np.any(start_q[idx] > hi + 1e-9):
+        if _outside_bounds(self.robot_model, jmg, start_q):
             raise _Failure(error_message("START_STATE_INVALID", f"start state is outside the joint bounds of group '{jmg.name}'"))
         if not validity.collision_free(start_q):
             raise _Failure(error_message("START_STATE_IN_COLLISION", validity.collision_detail(start_q)))
@@ -271,7 +264,6 @@ class PilzPipeline:
             raise _Failure(error_message("START_STATE_VIOLATES_PATH_CONSTRAINTS"))
         if not check_goal:
             return
-        _check_goal_bounds(model, jmg, goal_q)
         if not validity.collision_free(goal_q):
             raise _Failure(error_message("GOAL_IN_COLLISION", validity.collision_detail(goal_q)))
         if not validity.constraints_satisfied(goal_q):
