@@ -209,6 +209,6 @@ def publish(solution: SolutionBase) -> bool:
     from mtc.core.export import markers_of  # (export imports this module)
 
     # the parts' markers, each in the scene its part ends in (where its frames are)
-    viewer.show_markers([(marker, end or start) for leaf, (_, start, end) in zip(leaves, segments)
-                         for marker in markers_of(leaf)])
+    viewer.show_markers([(marker, end if end is not None else start)
+                         for leaf, (_, start, end) in zip(leaves, segments) for marker in markers_of(leaf)])
     return True

@@ -880,6 +880,11 @@ class _Request:
     turns: np.ndarray  # per group variable: what wrapping continuous joints into [-pi, pi) removed
     free_turning: np.ndarray  # per group variable: a continuous joint planned a turn either way
 
+    def within(self, x: np.ndarray) -> bool:
+        """Whether the group variables ``x`` lie inside ``lower``/``upper`` (the joint bounds
+        narrowed by the path's joint constraints)."""
+        return bool(np.all(x >= self.lower - 1e-12) and np.all(x <= self.upper + 1e-12))
+
 
 class OMPLPipeline:
     """OMPL planners behind MoveIt's request semantics (see the module docstring).
@@ -983,7 +988,7 @@ class OMPLPipeline:
         rng = np.random.default_rng([int(seed), 3])
         found = []
         for x in rng.uniform(lo, hi, (GOAL_REGION_SAMPLES, len(x_goal))):
-            if req.checker.state_ok(x) and np.all(x >= req.lower - 1e-12) and np.all(x <= req.upper + 1e-12):
+            if req.within(x) and req.checker.state_ok(x):
                 found.append(x)
         found.sort(key=lambda x: float(np.abs(x - x_goal).max()))
         return found[:POSE_GOAL_SAMPLES]
@@ -1177,7 +1182,7 @@ class OMPLPipeline:
                 f"GOAL_VIOLATES_PATH_CONSTRAINTS: {what} violates the path constraints: "
                 + "; ".join(req.evaluator.describe(q))
             )
-        if np.any(x_goal < req.lower - 1e-12) or np.any(x_goal > req.upper + 1e-12):
+        if not req.within(x_goal):
             q = req.checker.full(x_goal)
             return (
                 f"GOAL_VIOLATES_PATH_CONSTRAINTS: {what} violates the path constraints: "
@@ -1200,12 +1205,11 @@ class OMPLPipeline:
         solver = ik.get_ik_solver(scene.robot_model, req.group.name, tip)
         checker = req.checker
         idx = req.group.variable_indices
-        in_bounds = lambda x: bool(np.all(x >= req.lower - 1e-12) and np.all(x <= req.upper + 1e-12))  # noqa: E731
         rejected = {"invalid": 0, "bounds": 0}
 
         def is_valid(q: np.ndarray) -> bool:
             x = q[idx]
-            if not in_bounds(x):
+            if not req.within(x):
                 rejected["bounds"] += 1
                 return False
             if not checker.state_ok(x) or checker.touching(x):
