@@ -375,6 +375,36 @@ def test_clearance_on_the_panda():
     assert comment.startswith("Clearance: cumulative distance")
 
 
+def test_clearance_of_a_colliding_state_is_a_failure_in_every_mode():
+    """As MTC: a penetrating pair makes the cost infinite with the collision comment, also when
+    the distances are summed (the sum of all pairs can stay positive), and a group property
+    naming no group measures the whole robot."""
+    from mtc import msgs
+
+    panda = mtc.robots.panda()
+    scene = mtc.PlanningScene(panda)
+    scene.current_state.set_to_default_values("panda_arm", "extended")
+    ball = msgs.CollisionObject(id="ball", header=msgs.Header(frame_id="world"), operation=msgs.CollisionObject.ADD)
+    ball.primitives = [msgs.SolidPrimitive(type=msgs.SolidPrimitive.SPHERE, dimensions=[0.1])]
+    ball.primitive_poses = [msgs.Pose(position=msgs.Point(z=0.85), orientation=msgs.Quaternion(w=1.0))]
+    scene.apply_collision_object(ball)
+    pairs = scene.collision_distances(group="panda_arm")
+    assert pairs[0][0] < 0 < sum(p[0] for p in pairs)  # summed, the penetration would hide
+    state = core.InterfaceState(scene)
+    sol = _sub(None, start=state, end=state)
+    for cumulative in (False, True):
+        cost, comment = core.Clearance(cumulative=cumulative)(sol)
+        assert cost == math.inf
+        assert comment == f"Clearance: allegedly valid solution collides between '{pairs[0][1]}' and '{pairs[0][2]}'"
+    traj = mtc.RobotTrajectory(panda, "panda_arm")
+    traj.add_suffix_waypoint(scene.current_state)
+    cost, _ = core.Clearance(cumulative=True)(_sub(traj, start=state, end=state))
+    assert cost == math.inf
+    state.properties["group"] = "no_such_group"
+    cost, comment = core.Clearance()(sol)
+    assert cost == math.inf and "'ball'" in comment
+
+
 def test_solution_to_msg(t):
     """toMsg(): one SubTrajectory message per leaf in execution order, with costs and comments."""
     t.add(BackwardMockup([10.0]))

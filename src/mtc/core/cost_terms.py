@@ -380,14 +380,19 @@ class Clearance(TrajectoryCostTerm):
         return None
 
     def _query(self, scene, robot_state, group):
-        """Return (distance, body_a, body_b); the distance is summed if cumulative."""
+        """Return (distance, body_a, body_b): the closest pair, or where no pair touches and
+        the term is cumulative, the sum over all pairs (as MoveIt, a colliding pair is
+        returned whatever the mode). A group the robot does not have measures all its links,
+        as MoveIt's ``DistanceRequest::enableGroup`` does."""
+        if group and not scene.robot_model.has_joint_model_group(group):
+            group = None
         pairs = scene.collision_distances(robot_state, group=group, world=self.with_world,
                                           self_collision=not self.with_world)
         if not pairs:
             return INF, "", ""
-        if self.cumulative:
+        d, a, b = pairs[0]  # ascending
+        if self.cumulative and d > 0:
             return float(sum(p[0] for p in pairs)), "", ""
-        d, a, b = min(pairs, key=lambda p: p[0])
         return float(d), a, b
 
     def __call__(self, solution):
