@@ -144,6 +144,36 @@ def test_continuous_joints_take_the_short_way(toy_robot):
     # that takes 2 sqrt(0.283) = 1.06 s; the long way would take over 6 s
     assert traj.duration < 1.1
     assert np.all(np.abs(traj.velocities) <= 1.0 + 1e-9)
+    # as MoveIt's TOTG (it unwinds first): the waypoints are the path that was timed, no jump
+    assert traj.positions[:, 0] == pytest.approx([3.0, 3.1, 2 * math.pi - 3.1, 2 * math.pi - 3.0])
+
+
+@pytest.mark.parametrize("planner", ["JointInterpolation", "PTP"])
+def test_continuous_joint_goal_across_pi_ends_without_a_full_turn(toy_robot, planner):
+    """JointInterpolation and Pilz PTP go the short way round from 3.0 to -3.0 and stay there:
+    the last waypoint is the goal's angle continued from the start (3.28), not -3.0 (a jump of
+    2 pi that the velocities do not show)."""
+    from mtc.core import JointInterpolationPlanner
+    from mtc.planners import PipelinePlanner
+    from mtc.scene.planning_scene import PlanningScene
+
+    scene = PlanningScene(toy_robot)
+    scene.current_state.positions = [3.0, 0.0, 0.0]
+    goal = scene.diff()
+    goal.current_state.positions = [-3.0, 0.2, 0.0]
+    if planner == "PTP":
+        solver = PipelinePlanner("pilz_industrial_motion_planner")
+        solver.planner = "PTP"
+    else:
+        solver = JointInterpolationPlanner()
+    solver.init(toy_robot)
+    result, traj = solver.plan(scene, goal, "group", 1.0)
+    assert result, result.message
+    P = traj.positions
+    assert P[0] == pytest.approx([3.0, 0.0])
+    assert P[-1] == pytest.approx([2 * math.pi - 3.0, 0.2])
+    assert np.abs(np.diff(P, axis=0)).max() < 0.11
+    assert traj.duration < 1.5
 
 
 def test_cartesian_speed_limit(panda):

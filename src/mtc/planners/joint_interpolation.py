@@ -16,7 +16,7 @@ from mtc import msgs
 from mtc.planners import ik
 from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult
 from mtc.scene.planning_scene import PlanningScene
-from mtc.scene.robot_model import shortest_delta
+from mtc.scene.robot_model import shortest_delta, unwrap_path
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
 
@@ -66,6 +66,11 @@ class JointInterpolationPlanner(PlannerInterface):
             raise ValueError(f"max_step must be positive, got {max_step}")
         start = from_scene.current_state
         goal = to_scene.current_state
+        if from_scene.robot_model.continuous_mask.any():
+            # the interpolation takes continuous joints the short way: the goal waypoint is where
+            # that ends (the same angle, without a jump of a full turn), as MoveIt's TOTG unwinds
+            ends = unwrap_path(np.array([start.positions, goal.positions]), from_scene.robot_model.continuous_mask)
+            goal = goal._with_positions(ends[1])
         traj = RobotTrajectory(from_scene.robot_model, jmg.name)
         traj.add_suffix_waypoint(start, 0.0)
         # collision checks restricted to the group, as MTC; the checker is set up once per request
@@ -106,7 +111,9 @@ class JointInterpolationPlanner(PlannerInterface):
             return PlannerResult(False, "Goal state is out of bounds!"), traj
         if not line_free and not validity.motion_free(traj[-2].positions, goal.positions):
             return PlannerResult(False, "Waypoint is in collision!"), traj
-        self._apply_timing(traj)
+        error = self._apply_timing(traj)
+        if error:
+            return PlannerResult(False, error), traj
         max_effort = self.properties.get("max_effort", None)
         if max_effort is not None:
             traj.set_waypoint_efforts(0, max_effort)

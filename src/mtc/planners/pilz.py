@@ -312,6 +312,8 @@ class PilzPipeline:
         self._check_endpoints(validity, start_q, goal_q, jmg)
         q0 = start_q[idx]
         delta = shortest_delta(goal_q[idx] - q0, model.continuous_mask[idx])  # continuous joints: the short way
+        turning = idx[model.continuous_mask[idx]]
+        goal_q[turning] = start_q[turning] + delta[model.continuous_mask[idx]]  # ... and end there, no full turn
         if float(np.abs(delta).max(initial=0.0)) < _GOAL_REACHED:
             # as Pilz: the goal is reached already; one point, at the start, one sampling time in
             Z = np.zeros(len(idx))
@@ -335,7 +337,7 @@ class PilzPipeline:
             Q.append(q)
             V.append(v)
             A.append(a)
-        Q[-1] = goal_q.copy()  # exactly the goal (and its continuous-joint values)
+        Q[-1] = goal_q.copy()  # exactly the goal (continuous joints where the short way ends)
         self._check_path(validity, Q)
         return PlannerResult(True, ""), self._trajectory(start, jmg, Q, times, V, A)
 

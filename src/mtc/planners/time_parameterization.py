@@ -320,7 +320,8 @@ def time_parameterize(
         grid_points: minimum number of grid intervals along the path.
 
     Returns:
-        The trajectory, with times, velocities and accelerations set.
+        The trajectory, with times, velocities and accelerations set, and its continuous
+        joints unwound (each step the short way round, as MoveIt's ``unwind()``).
 
     Raises:
         ValueError: a scaling factor outside (0, 1], a negative Cartesian speed, or a Cartesian
@@ -336,6 +337,11 @@ def time_parameterize(
     vmax = model.velocity_limits[idx] * vs
     amax = model.acceleration_limits[idx] * acs
     Q = _unwrapped_positions(trajectory)
+    if not np.array_equal(Q, trajectory.positions):
+        # as MoveIt's TOTG (which unwinds the trajectory first): the waypoints take the
+        # continuous joints' values the timing is for, without jumps of a full turn
+        for w, q in zip(trajectory.waypoints, Q):
+            w.set_joint_group_positions(trajectory.group.name, q)
     P = None
     if max_cartesian_speed > 0:
         if not cartesian_speed_limited_link:
