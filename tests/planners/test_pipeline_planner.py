@@ -11,6 +11,8 @@ from mtc import msgs
 from mtc.planners import PipelinePlanner, PlannerResult
 from mtc.planners.pipeline_planner import KNOWN_PIPELINES, known_planners
 
+ARM = "panda_arm"
+
 
 def test_defaults_and_typed_properties():
     """MTC's properties with their defaults, as attributes; setPlannerId."""
@@ -191,3 +193,30 @@ def test_planner_id_in_the_constructor(panda):
     bad = PipelinePlanner("ompl", "RRTFast")
     with pytest.raises(ValueError, match="unknown OMPL planner id 'RRTFast'"):
         bad.init(panda)
+
+
+@pytest.mark.parametrize("kind", ["JointInterpolation", "CartesianPath", "ompl", "PTP"])
+def test_unknown_cartesian_speed_limited_link_fails_the_plan(panda, ready_scene, kind):
+    """A speed-limited link the robot does not have fails the plan with a message naming it and
+    the property (as MoveIt's Cartesian speed adapter fails it), instead of raising KeyError
+    out of task.plan()."""
+    from mtc.core import CartesianPath, JointInterpolationPlanner
+
+    if kind == "JointInterpolation":
+        planner = JointInterpolationPlanner()
+    elif kind == "CartesianPath":
+        planner = CartesianPath()
+    else:
+        planner = PipelinePlanner("ompl" if kind == "ompl" else "pilz_industrial_motion_planner")
+        planner.planner = "RRTConnectkConfigDefault" if kind == "ompl" else "PTP"
+    planner.setMaxCartesianSpeed(0.1)
+    planner.setCartesianSpeedLimitedLink("panda_hnad")
+    planner.init(panda)
+    goal = ready_scene.diff()
+    goal.current_state.set_joint_group_positions(ARM, goal.current_state.get_joint_group_positions(ARM) + 0.05)
+    result, _ = planner.plan(ready_scene, goal, ARM, 1.0)
+    assert not result
+    assert "unknown link 'panda_hnad'" in result.message and "cartesian_speed_limited_link" in result.message
+    planner.setCartesianSpeedLimitedLink("panda_hand")
+    result, traj = planner.plan(ready_scene, goal, ARM, 1.0)
+    assert result and traj.duration > 0

@@ -216,7 +216,9 @@ class CartesianPath(PlannerInterface):
             state = start.copy()
             state.positions = q
             traj.add_suffix_waypoint(state, 0.0)
-        self._apply_timing(traj)
+        error = self._apply_timing(traj)
+        if error:
+            return PlannerResult(False, error), traj
         if fraction < min_fraction:
             return PlannerResult(False, f"CartesianPath: min_fraction not met. Achieved: {fraction:.6f}"), traj
         return PlannerResult(True, f"achieved fraction: {fraction:.6f}"), traj

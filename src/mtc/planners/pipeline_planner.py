@@ -242,13 +242,19 @@ class PipelinePlanner(PlannerInterface):
         # Pilz times its own motions; a Cartesian speed limit (applied after planning, as MoveIt's
         # pipeline does) re-times them along the same path
         if result and traj is not None and len(traj) > 0 and self.properties.get("max_cartesian_speed") > 0:
-            self._apply_timing(traj)
+            return self._timing_result(result, traj)
         return result, traj
 
     def _timed(self, result, traj):
         # OMPL's paths are geometric: time them with this planner's settings
         if traj is not None and len(traj) > 0:
-            self._apply_timing(traj)
+            return self._timing_result(result, traj)
+        return result, traj
+
+    def _timing_result(self, result, traj):
+        error = self._apply_timing(traj)
+        if error and result:
+            return PlannerResult(False, error), traj
         return result, traj
 
     def __repr__(self) -> str:

@@ -291,9 +291,14 @@ class PlannerInterface(TypedPropertyAccess, ABC):
     def _group(self, scene: PlanningScene, group) -> JointModelGroup:
         return scene.robot_model.get_joint_model_group(group)
 
-    def _apply_timing(self, trajectory: RobotTrajectory) -> None:
+    def _apply_timing(self, trajectory: RobotTrajectory) -> str | None:
         """Time a trajectory with the planner's scaling factors, or, when a Cartesian speed
-        limit is set, time-optimally under both joint limits and that limit."""
+        limit is set, time-optimally under both joint limits and that limit.
+
+        Returns:
+            None, or why the trajectory could not be timed (the plan then fails, as MoveIt's
+            Cartesian speed adapter fails it): a speed-limited link the waypoints do not have.
+        """
         props = self._properties
         vs = props.get("max_velocity_scaling_factor")
         acs = props.get("max_acceleration_scaling_factor")
@@ -306,8 +311,11 @@ class PlannerInterface(TypedPropertyAccess, ABC):
                 tips = trajectory.group.end_effector_tips
                 link = tips[0] if tips else ""
             if link:
+                if len(trajectory) and not trajectory[0].knows_frame_transform(link):
+                    return (f"Limiting Cartesian speed for the solution path failed: unknown link '{link}' "
+                            "(cartesian_speed_limited_link names neither a link of the robot nor an attached frame)")
                 limit_cartesian_speed(trajectory, speed, link, vs, acs)
-                return
+                return None
             log.warning(
                 "max_cartesian_speed is set but neither cartesian_speed_limited_link nor an "
                 "end-effector tip of group '%s' names a link to limit: timing without it",
@@ -316,6 +324,7 @@ class PlannerInterface(TypedPropertyAccess, ABC):
         timing = props.get("time_parameterization", None)
         if timing is not None and len(trajectory) > 0:
             timing.computeTimeStamps(trajectory, vs, acs)
+        return None
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}()"
