@@ -341,7 +341,9 @@ def time_parameterize(
         # as MoveIt's TOTG (which unwinds the trajectory first): the waypoints take the
         # continuous joints' values the timing is for, without jumps of a full turn
         for w, q in zip(trajectory.waypoints, Q):
-            w.set_joint_group_positions(trajectory.group.name, q)
+            full = w.positions.copy()
+            full[idx] = q
+            w.positions = full
     P = None
     if max_cartesian_speed > 0:
         if not cartesian_speed_limited_link:
