@@ -487,3 +487,40 @@ def test_keyword_names_of_mtcs_binding():
     p = Property()
     p.setDescription(desc="d")
     assert p.description() == "d"
+
+
+def test_message_values_are_copied_when_set_and_read():
+    """As MTC's bindings (a Python value becomes a C++ value when set, and a new Python object
+    when read): reusing or editing a message after passing it to a stage does not change the
+    stage's setting, and neither does editing a value read back."""
+    from mtc import msgs, stages
+
+    twist = msgs.TwistStamped(header=msgs.Header(frame_id="world"))
+    twist.twist.linear.z = 0.05
+    up = stages.MoveRelative("up", core.JointInterpolationPlanner())
+    up.setDirection(twist)
+    twist.twist.linear.z = -0.05
+    down = stages.MoveRelative("down", core.JointInterpolationPlanner())
+    down.properties["direction"] = twist
+    assert up.properties["direction"].twist.linear.z == 0.05
+    assert down.properties["direction"].twist.linear.z == -0.05
+
+    pose = msgs.PoseStamped(header=msgs.Header(frame_id="world"))
+    gen = stages.GeneratePose("pose")
+    gen.pose = pose
+    pose.pose.position.z = 0.3
+    assert gen.pose.pose.position.z == 0.0
+    gen.pose.pose.position.z = 9.0  # edits a copy
+    gen.properties["pose"].pose.position.x = 9.0
+    assert gen.pose.pose.position.z == 0.0 and gen.properties.get("pose").pose.position.x == 0.0
+
+    names = ["a"]
+    p = PropertyMap()
+    p.declare("names", type=list)
+    p.set("names", names)
+    names.append("b")
+    assert p["names"] == ["a"]
+    planner = core.JointInterpolationPlanner()
+    p.declare("planner")
+    p.set("planner", planner)
+    assert p["planner"] is planner  # objects, not data, are shared (as MTC's shared pointers)

@@ -13,10 +13,13 @@ value is ``None`` is not ``defined()``.
 
 from __future__ import annotations
 
+import copy
 import numbers
 from collections.abc import Callable, Iterable
 from enum import IntFlag
 from typing import Any
+
+import numpy as np
 
 from mtc import msgs
 
@@ -200,6 +203,28 @@ def _coerce(value, declared):
     raise PropertyTypeError(_value_type_name(value), _type_name(declared))
 
 
+def _is_data(value) -> bool:
+    """Whether ``value`` is plain data: messages, numbers, strings, arrays and containers of
+    them (no stages, planners, scenes or callables, which are shared as MTC shares pointers)."""
+    if value is None or isinstance(value, (msgs._Message, str, bytes, numbers.Number, np.ndarray)):
+        return True
+    if isinstance(value, (list, tuple, set, frozenset)):
+        return all(_is_data(v) for v in value)
+    if isinstance(value, dict):
+        return all(_is_data(k) and _is_data(v) for k, v in value.items())
+    return False
+
+
+def _owned(value):
+    """``value`` as a property keeps or hands it out: a copy where it is mutable data, as MTC's
+    bindings convert a Python value to a C++ one when it is set and back when it is read, so
+    that editing a message after passing it to a stage (or reusing it for another stage), or
+    editing a value read back, does not change the stage's setting."""
+    if isinstance(value, (msgs._Message, list, dict, set, np.ndarray)) and _is_data(value):
+        return copy.deepcopy(value)
+    return value
+
+
 def _value_type_name(value) -> str:
     return type(value).__name__
 
@@ -246,7 +271,7 @@ class Property:
             return None
         if self._convert is not None:
             value = self._convert(value)
-        return _coerce(value, self._type)
+        return _owned(_coerce(value, self._type))
 
     def _copy(self) -> "Property":
         p = Property.__new__(Property)
@@ -597,7 +622,7 @@ class PropertyMap:
 
     # --- Python mapping protocol ------------------------------------------------------
     def __getitem__(self, name: str):
-        return self._raw(name)
+        return _owned(self._raw(name))
 
     def __setitem__(self, name: str, value) -> None:
         _not_none(value, f"properties['{name}'] = ...")
@@ -703,7 +728,7 @@ class _PropertyAttribute:
         if props is not None and name in props._props:
             value = props.get(name)
             getter = obj._attribute_getters.get(name)
-            return getter(value) if getter else value
+            return _owned(getter(value) if getter else value)
         try:
             return d[name]
         except KeyError:
