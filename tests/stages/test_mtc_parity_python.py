@@ -541,3 +541,52 @@ def test_merger(panda):
     task.enableIntrospection()
     task.init()
     assert not task.plan()
+
+
+def test_keyword_names_of_the_overloaded_setters():
+    """The keyword names of MTC's stage bindings (stages.cpp) select the overload, as there."""
+    jp = core.JointInterpolationPlanner()
+    twist = TwistStamped(header=Header(frame_id="world"))
+    twist.twist.linear.z = 0.1
+    move = stages.MoveRelative("m", jp)
+    move.setDirection(twist=twist)
+    assert move.properties["direction"] == twist
+    vector = Vector3Stamped(header=Header(frame_id="world"), vector=Vector3(z=0.2))
+    move.setDirection(direction=vector)
+    assert move.properties["direction"] == vector
+    move.setDirection(joint_deltas={"panda_joint1": 0.1})
+    assert move.properties["direction"] == {"panda_joint1": 0.1}
+    with pytest.raises(TypeError, match="one argument"):
+        move.setDirection(twist, joint_deltas={"panda_joint1": 0.1})
+
+    grasp = stages.SimpleGrasp(None)
+    grasp.setIKFrame(link="panda_hand")
+    assert grasp.properties["ik_frame"].header.frame_id == "panda_hand"
+    grasp.setIKFrame(pose=PoseStamped().pose, link="panda_link8")
+    assert grasp.properties["ik_frame"].header.frame_id == "panda_link8"
+    grasp.setIKFrame(transform=PoseStamped(header=Header(frame_id="panda_hand")))
+    assert grasp.properties["ik_frame"].header.frame_id == "panda_hand"
+    grasp.setMaxIKSolutions(max_ik_solutions=3)
+    assert grasp.properties["max_ik_solutions"] == 3
+
+    pick = stages.Pick(stages.SimpleGrasp(None))
+    pick.setLiftMotion(place={"panda_joint1": 0.1})
+    place = stages.Place(stages.SimpleUnGrasp(None))
+    place.setPlaceMotion(joints={"panda_joint1": -0.1})
+    lift = [c for c in pick if c.name == "lift object"]
+    lower = [c for c in place if c.name == "place object"]
+    assert lift and lift[0].properties["direction"] == {"panda_joint1": 0.1}
+    assert lower and lower[0].properties["direction"] == {"panda_joint1": -0.1}
+
+
+def test_compute_ik_without_any_target_pose_says_undefined():
+    """ComputeIK around a generator whose states carry no target pose: MTC's "undefined"
+    error (not "undeclared": ComputeIK declares the property)."""
+    task = core.Task()
+    task.loadRobotModel()
+    ik = stages.ComputeIK("ik", stages.CurrentState("cs"))
+    ik.group = "panda_arm"
+    task.add(ik)
+    with pytest.raises(RuntimeError) as info:
+        task.plan()
+    assert str(info.value).startswith("Property 'target_pose': undefined\nin stage 'ik': declared, but undefined")

@@ -133,9 +133,29 @@ def pose_stamped_from_args(what: str, *args, default_frame: str | None = None) -
     raise TypeError(f"{usage}, got {len(args)} arguments")
 
 
-def ik_frame_from_args(*args) -> msgs.PoseStamped:
-    """The ``ik_frame`` property value of ``setIKFrame(PoseStamped | (pose, link) | link)``."""
+def ik_frame_from_args(*args, transform=None, pose=None, link=None) -> msgs.PoseStamped:
+    """The ``ik_frame`` property value of ``setIKFrame(PoseStamped | (pose, link) | link)``,
+    the arguments also by MTC's keyword names (``transform=``, ``pose=``, ``link=``)."""
+    if transform is not None or pose is not None or link is not None:
+        if args:
+            raise TypeError("setIKFrame() takes its arguments by position or by keyword, not both")
+        if transform is not None:
+            if pose is not None or link is not None:
+                raise TypeError("setIKFrame(transform=) takes no pose or link")
+            args = (transform,)
+        else:
+            args = (link,) if pose is None else (pose, link)
     return pose_stamped_from_args("setIKFrame", *args)
+
+
+def one_argument(what: str, positional, **keywords):
+    """The single argument of a method MTC's bindings overload by argument type: given by
+    position or by the keyword name of one of the overloads."""
+    given = [v for v in (positional, *keywords.values()) if v is not None]
+    if len(given) != 1:
+        names = ", ".join(f"{k}=" for k in keywords)
+        raise TypeError(f"{what} takes one argument, by position or as one of {names}; got {len(given)}")
+    return given[0]
 
 
 def pose_stamped_to_matrix(scene, pose: msgs.PoseStamped) -> np.ndarray:

@@ -222,8 +222,10 @@ class ComputeIK(WrapperBase):
         unconfigured keeps the user's own configuration free, as in MTC)."""
         p = self.properties
         value = p.get("target_pose", None)
-        if value is None and not p.property("target_pose").initsFrom(Stage.PARENT | Stage.INTERFACE):
-            value = s.start.properties.get("target_pose", None)
+        state_props = s.start.properties
+        if value is None and "target_pose" in state_props and not p.property("target_pose").initsFrom(
+                Stage.PARENT | Stage.INTERFACE):
+            value = state_props.get("target_pose", None)
         return value if value is not None else p.get("target_pose")  # undefined: MTC's error
 
     def _solve(self, s: SolutionBase) -> None:

@@ -21,6 +21,7 @@ from mtc.stages._common import (
     check_direction,
     frame_pose,
     joint_deltas,
+    one_argument,
     resolve_ik_frame,
     type_name,
 )
@@ -80,9 +81,11 @@ class MoveRelative(PlannerStage):
         self.setMinDistance(min_distance)
         self.setMaxDistance(max_distance)
 
-    def setDirection(self, direction) -> None:
-        """Set the motion: ``TwistStamped``, ``Vector3Stamped`` or ``{joint: delta}``."""
-        self.properties.set("direction", check_direction(direction))
+    def setDirection(self, direction=None, *, twist=None, joint_deltas=None) -> None:
+        """Set the motion: ``TwistStamped``, ``Vector3Stamped`` or ``{joint: delta}`` (by
+        position, or as MTC's keywords ``twist=``, ``direction=``, ``joint_deltas=``)."""
+        value = one_argument("setDirection()", direction, twist=twist, joint_deltas=joint_deltas)
+        self.properties.set("direction", check_direction(value))
 
     # --- computing -----------------------------------------------------------------------
     def compute(self, state: InterfaceState, direction: int):

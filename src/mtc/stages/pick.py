@@ -20,6 +20,7 @@ from __future__ import annotations
 from mtc import msgs
 from mtc.core.container import SerialContainer
 from mtc.core.stage import InitStageError, Stage
+from mtc.stages._common import one_argument
 from mtc.stages.move_relative import MoveRelative
 
 __all__ = ["PickPlaceBase", "Pick", "Place"]
@@ -174,8 +175,11 @@ class Pick(PickPlaceBase):
         """Motion towards the grasp: ``(TwistStamped, min [m], max [m])`` or ``({joint: delta})``."""
         self._set_motion(self._approach, "setApproachMotion", motion, min_distance, max_distance)
 
-    def setLiftMotion(self, motion, min_distance: float | None = None, max_distance: float | None = None) -> None:
-        """Motion after grasping: ``(TwistStamped, min [m], max [m])`` or ``({joint: delta})``."""
+    def setLiftMotion(self, motion=None, min_distance: float | None = None, max_distance: float | None = None, *,
+                      place=None) -> None:
+        """Motion after grasping: ``(TwistStamped, min [m], max [m])`` or ``({joint: delta})``
+        (MTC's keyword for the joint form: ``place=``)."""
+        motion = one_argument("setLiftMotion()", motion, place=place)
         self._set_motion(self._lift, "setLiftMotion", motion, min_distance, max_distance)
 
 
@@ -195,6 +199,9 @@ class Place(PickPlaceBase):
         """Motion after releasing: ``(TwistStamped, min [m], max [m])`` or ``({joint: delta})``."""
         self._set_motion(self._approach, "setRetractMotion", motion, min_distance, max_distance)
 
-    def setPlaceMotion(self, motion, min_distance: float | None = None, max_distance: float | None = None) -> None:
-        """Motion down to the place pose: ``(TwistStamped, min [m], max [m])`` or ``({joint: delta})``."""
+    def setPlaceMotion(self, motion=None, min_distance: float | None = None, max_distance: float | None = None, *,
+                       joints=None) -> None:
+        """Motion down to the place pose: ``(TwistStamped, min [m], max [m])`` or ``({joint: delta})``
+        (MTC's keyword for the joint form: ``joints=``)."""
+        motion = one_argument("setPlaceMotion()", motion, joints=joints)
         self._set_motion(self._lift, "setPlaceMotion", motion, min_distance, max_distance)

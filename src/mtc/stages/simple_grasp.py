@@ -147,13 +147,14 @@ class SimpleGraspBase(SerialContainer):
         """Set ``object``."""
         self.properties.set("object", object_name)
 
-    def setIKFrame(self, *args) -> None:
-        """``setIKFrame(PoseStamped)``, ``setIKFrame(pose, link)`` or ``setIKFrame(link)``."""
-        self.properties.set("ik_frame", ik_frame_from_args(*args))
+    def setIKFrame(self, *args, transform=None, pose=None, link=None) -> None:
+        """``setIKFrame(PoseStamped)``, ``setIKFrame(pose, link)`` or ``setIKFrame(link)`` (MTC's
+        keywords: ``transform=``, ``pose=`` with ``link=``, ``link=``)."""
+        self.properties.set("ik_frame", ik_frame_from_args(*args, transform=transform, pose=pose, link=link))
 
-    def setMaxIKSolutions(self, n: int) -> None:
+    def setMaxIKSolutions(self, max_ik_solutions: int) -> None:
         """Set ``max_ik_solutions``."""
-        self.properties.set("max_ik_solutions", n)
+        self.properties.set("max_ik_solutions", max_ik_solutions)
 
     def init(self, robot_model) -> None:
         # the gripper group initializer needs the model while the children initialize
