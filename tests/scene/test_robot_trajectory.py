@@ -136,6 +136,27 @@ def test_append_trajectory(panda, start):
     np.testing.assert_allclose(c.positions[3:, 0], [0.1, 0.2])
 
 
+def test_append_keeps_the_velocities_where_both_parts_have_them(panda, start):
+    """As MoveIt's waypoints, which carry their own velocities and accelerations: joining two
+    timed trajectories of the same group keeps them (a controller goal of a whole solution)."""
+    a = sweep(panda, start, n=3, dt=0.5)
+    b = sweep(panda, start, n=3, dt=0.25)
+    a.velocities, a.accelerations = np.full((3, 7), 1.0), np.full((3, 7), 2.0)
+    b.velocities, b.accelerations = np.full((3, 7), 3.0), np.full((3, 7), 4.0)
+    a.append(b, 0.0, start_index=1)
+    assert a.velocities[:, 0].tolist() == [1.0, 1.0, 1.0, 3.0, 3.0]
+    assert a.accelerations[:, 0].tolist() == [2.0, 2.0, 2.0, 4.0, 4.0]
+    points = a.get_robot_trajectory_msg().joint_trajectory.points
+    assert [p.velocities[0] for p in points] == [1.0, 1.0, 1.0, 3.0, 3.0]
+    empty = RobotTrajectory(panda, "panda_arm")
+    empty.append(b)
+    assert empty.velocities.tolist() == b.velocities.tolist()
+    hand = sweep(panda, start, n=2, group="hand")
+    hand.velocities = np.zeros((2, 1))
+    hand.append(b)  # another group's velocities are for other variables
+    assert hand.velocities is None
+
+
 def test_append_keeps_the_appended_waypoints_own_gap(panda, start):
     """As MoveIt's append(source, dt, start_index): the first appended duration is source's own plus dt."""
     a = sweep(panda, start, n=2, dt=0.5)

@@ -160,7 +160,8 @@ class RobotTrajectory:
         self._efforts[index] = values
 
     def add_suffix_waypoint(self, state: RobotState, dt: float = 0.0) -> None:
-        """Append a waypoint ``dt`` seconds after the current last one (the state is copied)."""
+        """Append a waypoint ``dt`` seconds after the current last one (the state is copied).
+        A state carries no velocities: the trajectory's are dropped (time it again)."""
         if not isinstance(state, RobotState):
             raise TypeError(f"waypoints must be RobotState, not {type(state).__name__}")
         self.waypoints.append(state.copy())
@@ -187,14 +188,22 @@ class RobotTrajectory:
             raise TypeError(f"append takes a RobotTrajectory or RobotState, not {type(other).__name__}")
         # as MoveIt's append(): the first appended waypoint keeps its own gap, plus dt
         durations = other._durations[start_index:]
+        same = other.joint_names == self.joint_names
+        # velocities and accelerations come along where both parts have them for the same
+        # variables (as MoveIt's waypoints carry their own)
+        self.velocities = self._joined(self.velocities, other.velocities, start_index, same)
+        self.accelerations = self._joined(self.accelerations, other.accelerations, start_index, same)
         for k, state in enumerate(other.waypoints[start_index:]):
             self.waypoints.append(state.copy())
             self._durations.append(durations[k] + float(dt) if k == 0 else durations[k])
-        self.velocities = self.accelerations = None
         # efforts come along for the same variables only (another group's are for other joints)
-        same = other.joint_names == self.joint_names
         self._efforts.extend(other._efforts[start_index:] if same else [None] * len(durations))
         return self
+
+    def _joined(self, own: np.ndarray | None, other: np.ndarray | None, start: int, same: bool) -> np.ndarray | None:
+        if other is None or not same or (own is None and self.waypoints):
+            return None
+        return np.array(other[start:], dtype=float) if own is None else np.vstack((own, other[start:]))
 
     def reverse(self) -> RobotTrajectory:
         """Reverse in place: waypoints backwards, the same gaps between them (the first gap
