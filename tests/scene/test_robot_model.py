@@ -596,3 +596,23 @@ def test_merged_group_is_the_union_named_like_mtc(panda):
     assert "panda_arm+hand" not in panda.joint_model_group_names
     with pytest.raises(KeyError, match="unknown planning group 'arm'"):
         panda.merged_group(["arm", "hand"])
+
+
+def test_mimic_followers_own_limits_do_not_bound_a_state(tmp_path):
+    """As MoveIt (bounds are checked on the active joints): a follower that mimics its master
+    with multiplier -1 leaves its own URDF limits whenever the master is positive (the PR2's
+    gripper); the state is still within bounds and valid."""
+    from mtc.scene.planning_scene import PlanningScene
+    from mtc.scene.robot_state import RobotState
+
+    body = (LINK.format("a") + LINK.format("b") + LINK.format("c") + GOOD_JOINT
+            + '<joint name="j2" type="revolute"><parent link="b"/><child link="c"/><axis xyz="0 0 1"/>'
+            '<limit lower="0" upper="0.5" velocity="1" effort="1"/><mimic joint="j1" multiplier="-1"/></joint>')
+    model = RobotModel(write(tmp_path, "mimic.urdf", urdf(body)))
+    state = RobotState(model)
+    state.joint_positions = {"j1": 0.3}
+    assert state.joint_positions["j2"] == pytest.approx(-0.3)
+    assert state.satisfies_bounds()
+    assert PlanningScene(model).is_state_valid(state)
+    state.joint_positions = {"j1": 1.5}
+    assert not state.satisfies_bounds()  # the master's own limits still count

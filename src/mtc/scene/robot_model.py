@@ -443,6 +443,10 @@ class RobotModel:
             n for n in self.variable_names if n not in mimic_names and n not in self.passive_joint_names
         ]
         self.active_variable_mask = np.array([n in self._active_names for n in self.variable_names])
+        # the variables whose bounds a state must satisfy: not mimic followers, whose values
+        # follow their masters whatever their own limits say (as MoveIt's active joints)
+        self._bounded_indices = np.array(
+            [i for i, n in enumerate(self.variable_names) if n not in mimic_names], dtype=int)
 
         specs = {g.name: g for g in srdf.groups}
         self._groups: dict[str, JointModelGroup] = {}

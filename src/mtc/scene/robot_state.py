@@ -170,8 +170,9 @@ class RobotState:
         self.positions = q
 
     def satisfies_bounds(self, group: str | None = None, margin: float = 0.0) -> bool:
-        """Whether the group's (default: all) variables lie inside their bounds (+ margin)."""
-        idx = self._group(group).variable_indices if group else slice(None)
+        """Whether the group's (default: all but mimic followers, as MoveIt's active joints)
+        variables lie inside their bounds (+ margin)."""
+        idx = self._group(group).variable_indices if group else self._model._bounded_indices
         q = self._q[idx]
         return bool(
             np.all(q >= self._model.lower_bounds[idx] - margin) and np.all(q <= self._model.upper_bounds[idx] + margin)
