@@ -616,3 +616,29 @@ def test_mimic_followers_own_limits_do_not_bound_a_state(tmp_path):
     assert PlanningScene(model).is_state_valid(state)
     state.joint_positions = {"j1": 1.5}
     assert not state.satisfies_bounds()  # the master's own limits still count
+
+
+def test_a_tree_groups_joints_are_in_moveits_order_not_the_files(tmp_path):
+    """MoveIt orders a group's joints depth first with a link's child joints by name (its joint
+    indices); a tree-shaped group (the PR2's "arms") listed them in URDF file order before, so
+    set_joint_group_positions drove the other arm with a list in MoveIt's order."""
+    from mtc.scene.robot_state import RobotState
+
+    def arm(side):
+        return (LINK.format(f"{side}1") + LINK.format(f"{side}2")
+                + f'<joint name="{side}_j1" type="revolute"><parent link="a"/><child link="{side}1"/><axis xyz="0 0 1"/>'
+                '<limit lower="-1" upper="1" velocity="1" effort="1"/></joint>'
+                f'<joint name="{side}_j2" type="revolute"><parent link="{side}1"/><child link="{side}2"/><axis xyz="0 1 0"/>'
+                '<limit lower="-1" upper="1" velocity="1" effort="1"/></joint>')
+
+    path = write(tmp_path, "arms.urdf", urdf(LINK.format("a") + arm("r") + arm("l")))  # right first in the file
+    srdf = write(tmp_path, "arms.srdf", '<robot name="bad"><group name="right"><chain base_link="a" tip_link="r2"/></group>'
+                 '<group name="left"><chain base_link="a" tip_link="l2"/></group>'
+                 '<group name="arms"><group name="right"/><group name="left"/></group></robot>')
+    model = RobotModel(path, srdf)
+    arms = model.get_joint_model_group("arms")
+    assert arms.variable_names == ["l_j1", "l_j2", "r_j1", "r_j2"]
+    assert list(arms.variable_indices) == sorted(arms.variable_indices)
+    state = RobotState(model)
+    state.set_joint_group_positions("arms", [0.1, 0.2, 0.3, 0.4])
+    assert state.joint_positions["l_j1"] == pytest.approx(0.1) and state.joint_positions["r_j2"] == pytest.approx(0.4)

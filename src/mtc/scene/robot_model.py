@@ -535,11 +535,16 @@ class RobotModel:
         return out
 
     def _tree_order(self) -> dict[str, int]:
-        order = {}
-        for i, link in enumerate(self._subtree_links(self.root_link_name)):
+        """Joint name -> its place in MoveIt's joint order: depth first, the child joints of a
+        link by name (as urdfdom keeps them, and so MoveIt's and Pinocchio's joint indices)."""
+        order: dict[str, int] = {}
+        stack = [self.root_link_name]
+        while stack:
+            link = stack.pop()
             joint = self._parent_joint.get(link)
             if joint is not None:
-                order[joint.name] = i
+                order[joint.name] = len(order)
+            stack.extend(j.child for j in sorted(self._children[link], key=lambda j: j.name, reverse=True))
         return order
 
     def _make_group(self, spec, specs, visiting) -> JointModelGroup:
