@@ -510,13 +510,14 @@ TOY_GROUP = '<group name="g"><chain base_link="base" tip_link="link2"/></group>'
         (TOY_GROUP + '<end_effector name="e" parent_link="wrist" group="g"/>', ["'e'", "'wrist'", "link2"]),
         (TOY_GROUP + '<end_effector name="e" parent_link="link2" group="g" parent_group="ghost"/>', ["'e'", "'ghost'"]),
         ('<virtual_joint name="v" type="fixed" parent_frame="world" child_link="link1"/>', ["'v'", "'link1'", "'base'"]),
-        ('<virtual_joint name="v" type="floating" parent_frame="world" child_link="base"/>', ["'v'", "'floating'", "fixed"]),
+        ('<virtual_joint name="v" type="spherical" parent_frame="world" child_link="base"/>',
+         ["'v'", "'spherical'", "fixed, planar, floating"]),
         ('<passive_joint name="ghost_joint"/>', ["'ghost_joint'"]),
     ],
     ids=[
         "group-unknown-link", "group-unknown-joint", "unknown-subgroup", "self-subgroup", "chain-not-ancestor",
         "state-unknown-group", "state-joint-not-in-group", "eef-unknown-group", "eef-unknown-link",
-        "eef-unknown-parent-group", "virtual-joint-not-root", "virtual-joint-not-fixed", "unknown-passive-joint",
+        "eef-unknown-parent-group", "virtual-joint-not-root", "virtual-joint-unknown-type", "unknown-passive-joint",
     ],
 )
 def test_srdf_names_missing_from_the_urdf(srdf_body, words):
@@ -529,6 +530,22 @@ def test_srdf_names_missing_from_the_urdf(srdf_body, words):
     assert "SRDF" in msg
     for word in words:
         assert word in msg, (word, msg)
+
+
+@pytest.mark.parametrize("kind", ["planar", "floating"])
+def test_a_mobile_bases_virtual_joint_loads_as_fixed(kind, caplog):
+    """A mobile manipulator's SRDF (a planar or floating virtual joint, usually passive, as the
+    PR2's) loads: the base stays at the model frame's origin, with a warning that base motion is
+    not planned."""
+    from scene_helpers import TOY_URDF
+
+    srdf = (f'<robot name="robot"><virtual_joint name="world_joint" type="{kind}" parent_frame="odom" child_link="base"/>'
+            '<passive_joint name="world_joint"/><group name="arm"><chain base_link="base" tip_link="link2"/></group></robot>')
+    with caplog.at_level("WARNING"):
+        model = RobotModel(str(TOY_URDF), srdf)
+    assert model.model_frame == "odom" and model.virtual_joint_names == ["world_joint"]
+    assert f"type '{kind}'" in caplog.text and "treats it as fixed" in caplog.text
+    assert model.get_joint_model_group("arm").variable_names == ["base-link1-joint", "link1-link2-joint"]
 
 
 def test_missing_srdf_file(tmp_path):

@@ -416,9 +416,16 @@ class RobotModel:
                     f"{self._srdf.label}: virtual joint '{vj.name}' connects link '{vj.child_link}', "
                     f"but the URDF's root link is '{self.root_link_name}'"
                 )
-            if vj.type != "fixed":
+            if vj.type in ("planar", "floating"):
+                # a mobile base: MoveIt gives it variables (x, y, theta / a pose) that a
+                # manipulation task leaves at their defaults; mtc keeps the base there, fixed
+                log.warning("%s: virtual joint '%s' has type '%s': mtc treats it as fixed (the base stays at "
+                            "the origin of '%s'; base motion is not planned)", self._srdf.label, vj.name, vj.type,
+                            vj.parent_frame)
+            elif vj.type != "fixed":
                 raise DescriptionError(
-                    f"{self._srdf.label}: virtual joint '{vj.name}' has type '{vj.type}'; mtc supports 'fixed'"
+                    f"{self._srdf.label}: virtual joint '{vj.name}' has type '{vj.type}'; "
+                    "allowed: fixed, planar, floating (the last two are treated as fixed)"
                 )
             self.model_frame = vj.parent_frame
             self.virtual_joint_names.append(vj.name)
@@ -428,8 +435,10 @@ class RobotModel:
                 self._frame_ids[vj.parent_frame] = fid
                 self._data = pm.createData()
         for name in srdf.passive_joints:
-            if name not in self._joints:
-                raise DescriptionError(f"{self._srdf.label}: passive joint '{name}' is not a joint of the URDF")
+            if name not in self._joints and name not in self.virtual_joint_names:
+                raise DescriptionError(
+                    f"{self._srdf.label}: passive joint '{name}' is neither a joint of the URDF nor a virtual joint"
+                )
         self.passive_joint_names = list(srdf.passive_joints)
         self.acceleration_limits = np.full(len(self.variable_names), DEFAULT_ACCELERATION_LIMIT)
         for joint, limits in joint_limits.items():
