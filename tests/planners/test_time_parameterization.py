@@ -64,11 +64,66 @@ def test_no_waypoint_exceeds_a_scaled_limit(panda, vs, acs):
 
 
 def test_time_optimal_touches_a_limit(panda):
-    """Time-optimal: at almost every waypoint some limit is active (all but switching points)."""
-    traj = time_parameterize(_curved_path(panda, np.random.default_rng(1)))
+    """Time-optimal: on a fine grid some limit is active at almost every waypoint (all but
+    switching points), and the default grid's duration is within 1 % of the fine grid's (each
+    grid interval is held to the limits at both ends, so on the default grid a waypoint's own
+    values may sit just below a limit that binds at the end of its interval)."""
+    fine = time_parameterize(_curved_path(panda, np.random.default_rng(1)), grid_points=1000)
     vmax, amax = _limits(panda, 1.0, 1.0)
-    ratio = np.maximum(np.abs(traj.velocities) / vmax, np.abs(traj.accelerations) / amax).max(axis=1)
+    ratio = np.maximum(np.abs(fine.velocities) / vmax, np.abs(fine.accelerations) / amax).max(axis=1)
     assert np.mean(ratio[1:-1] > 0.99) >= 0.9
+    coarse = time_parameterize(_curved_path(panda, np.random.default_rng(1)))
+    assert fine.duration <= coarse.duration <= 1.01 * fine.duration
+
+
+def _finite_difference_ratios(traj, vmax, amax):
+    """Largest |first / second differences of the waypoints| over the limits: what a
+    controller following the positions sees between waypoints."""
+    P, t = traj.positions, traj.times
+    V = np.diff(P, axis=0) / np.diff(t)[:, None]
+    A = 2 * np.diff(V, axis=0) / (t[2:] - t[:-2])[:, None]
+    return float((np.abs(V) / vmax).max()), float((np.abs(A) / amax).max())
+
+
+def test_corners_of_a_planned_path_keep_the_limits_between_waypoints(panda):
+    """An OMPL-style path (straight edges sampled every 0.05 rad, turning at its vertices): the
+    motion between waypoints keeps the limits too (a natural spline through such a path swung
+    wide at every corner and reached 4x the acceleration limit by finite differences)."""
+    rng = np.random.default_rng(0)
+    vmax, amax = _limits(panda, 1.0, 1.0)
+    for _ in range(5):
+        corners = []
+        for _ in range(3):
+            s = RobotState(panda)
+            s.set_to_random_positions("panda_arm", rng)
+            corners.append(s.get_joint_group_positions("panda_arm"))
+        rows = [corners[0]]
+        for a, b in zip(corners, corners[1:]):
+            n = int(np.ceil(np.abs(b - a).max() / 0.05))
+            rows += [a + (b - a) * k / n for k in range(1, n + 1)]
+        traj = time_parameterize(RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), np.array(rows)))
+        fd_v, fd_a = _finite_difference_ratios(traj, vmax, amax)
+        assert fd_v <= 1.0 + 1e-6 and fd_a <= 1.0 + 1e-6
+
+
+def test_a_joint_that_stops_stays_stopped(panda):
+    """A joint that reaches its goal at one waypoint while the others go on (a Merger's hand
+    and arm) keeps zero velocity and acceleration afterwards, and no waypoint's velocity points
+    past a bound the path runs along (a natural spline rang: +0.029, -0.012, ... m/s)."""
+    ready = _ready(panda)
+    ready.set_to_default_values("hand", "open")
+    idx = panda.get_joint_model_group("panda_arm_hand").variable_indices
+    start = ready.positions[idx]
+    assert start[7] > 0.03
+    rows = [start]
+    for k in range(1, 7):
+        q = start.copy()
+        q[7] = 0.0  # the finger closes at the first step, then holds at its lower bound
+        q[3] = start[3] - 0.2 * k  # joint 4 moves on
+        rows.append(q)
+    traj = time_parameterize(RobotTrajectory.from_positions(panda, "panda_arm_hand", ready, np.array(rows)))
+    assert np.all(traj.velocities[1:, 7] == 0.0) and np.all(traj.accelerations[2:, 7] == 0.0)
+    assert traj.velocities[0, 7] == 0.0 and np.all(traj.velocities[:, 7] <= 0.0)
 
 
 def test_starts_and_ends_at_rest_positions_kept(panda):

@@ -6,19 +6,22 @@ the path is traversed as fast as the joint velocity and acceleration limits allo
 ``max_velocity_scaling_factor`` and ``max_acceleration_scaling_factor``. The waypoints are kept
 (MoveIt's TOTG resamples them; MTC's planners and cost terms only need the times).
 
-How: the waypoints are joined by a natural cubic spline ``q(s)`` in the joint-space arc
-length ``s``, so the path has a continuous tangent ``q'(s)`` and curvature ``q''(s)``. Along the
-path, ``q̇ = q' ṡ`` and ``q̈ = q' s̈ + q'' ṡ²``, so with ``x = ṡ²`` and ``u = s̈`` every joint
-limit is linear in ``(u, x)``. On a grid in ``s`` that contains every waypoint, a backward
-pass computes the largest ``x`` from which the path can still end at rest (the controllable
-set) and a forward pass then takes the largest admissible ``u`` at each grid point (the
-reachability analysis of TOPP-RA, Pham & Pham 2018, with constraints evaluated at the start
-of each grid interval). The result is time-optimal on the grid and, by construction, every
+How: the waypoints are joined by a monotone piecewise cubic ``q(s)`` (Fritsch-Carlson's
+shape-preserving Hermite interpolant) in the joint-space arc length ``s``: the path has a
+continuous tangent ``q'(s)``, stays on straight lines between collinear waypoints, and between
+two waypoints no joint leaves the range of its two values (a joint that stands still has zero
+velocity; nothing overshoots a bound the waypoints touch). Along the path, ``q̇ = q' ṡ`` and
+``q̈ = q' s̈ + q'' ṡ²``, so with ``x = ṡ²`` and ``u = s̈`` every joint limit is linear in
+``(u, x)``. On a grid in ``s`` that contains every waypoint, a backward pass computes the largest
+``x`` from which the path can still end at rest (the controllable set) and a forward pass then
+takes the largest admissible ``u`` at each grid point (the reachability analysis of TOPP-RA,
+Pham & Pham 2018). Each grid interval is held to the limits at both of its ends (the curvature
+jumps at waypoints). The result is time-optimal on the grid and, by construction, every
 reported velocity and acceleration lies within the scaled limits.
 
 A Cartesian speed limit on a link (MTC's ``max_cartesian_speed`` for
 ``cartesian_speed_limited_link``) is one more velocity constraint ``‖p'(s)‖ ṡ ≤ v_max`` on
-the spline of the link's positions.
+the interpolant of the link's positions.
 
 Ruckig (the only ruckig user in ``mtc`` is this module) does state-to-state motions: it
 cannot follow a given path, so it serves :class:`TrapezoidProfile` (one coordinate rest to
@@ -51,7 +54,6 @@ __all__ = [
 ]
 
 _EPS_TANGENT = 1e-9  # a joint whose path tangent is smaller than this does not limit ṡ
-_DENSE_SPLINE = 200  # up to this many waypoints the spline system is solved densely
 
 
 def check_scaling_factor(name: str, value: float) -> float:
@@ -116,54 +118,45 @@ class TimeOptimalTrajectoryGeneration(TimeParameterization):
 
 
 # ---------------------------------------------------------------------------------------------
-# natural cubic spline through the waypoints, parameterized by arc length
+# shape-preserving cubic through the waypoints, parameterized by arc length
 
 
-def _spline_second_derivatives(s: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    """Second derivatives at the knots of the natural cubic spline through ``(s, Y)`` (columns
-    of Y are independent curves)."""
+def _pchip_slopes(s: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    """Tangents at the knots of the monotone piecewise cubic Hermite interpolant through
+    ``(s, Y)`` (Fritsch and Carlson; columns of Y are independent curves): a coordinate that
+    turns or stands still at a knot gets a zero tangent there, so between two knots each
+    coordinate stays between its two values (no overshoot past a waypoint, a bound or a
+    stationary joint's value), and collinear waypoints give the straight line."""
     n = len(s)
-    Mk = np.zeros_like(Y)
-    if n < 3:
-        return Mk
-    h = np.diff(s)
-    slopes = np.diff(Y, axis=0) / h[:, None]
-    rhs = 6.0 * (slopes[1:] - slopes[:-1])  # (n-2) x k
-    diag = 2.0 * (h[:-1] + h[1:])
-    off = h[1:-1]
-    if n <= _DENSE_SPLINE:
-        A = np.diag(diag)
-        if n > 3:
-            A += np.diag(off, 1) + np.diag(off, -1)
-        Mk[1:-1] = np.linalg.solve(A, rhs)
-        return Mk
-    # Thomas algorithm for long paths (the system is tridiagonal and diagonally dominant)
-    m = n - 2
-    c = np.zeros(m)
-    d = np.zeros_like(rhs)
-    c[0] = off[0] / diag[0] if m > 1 else 0.0
-    d[0] = rhs[0] / diag[0]
-    for i in range(1, m):
-        denom = diag[i] - off[i - 1] * c[i - 1]
-        if i < m - 1:
-            c[i] = off[i] / denom
-        d[i] = (rhs[i] - off[i - 1] * d[i - 1]) / denom
-    x = np.zeros_like(rhs)
-    x[-1] = d[-1]
-    for i in range(m - 2, -1, -1):
-        x[i] = d[i] - c[i] * x[i + 1]
-    Mk[1:-1] = x
-    return Mk
+    h = np.diff(s)[:, None]
+    delta = np.diff(Y, axis=0) / h
+    if n == 2:
+        return np.repeat(delta, 2, axis=0)
+    M = np.zeros_like(Y)
+    # interior: the three-point (Bessel) tangent, second-order accurate on smooth paths, held
+    # to zero where the neighbouring slopes disagree in sign and to 3x the smaller slope
+    # (de Boor and Swartz's bound: each piece then stays monotone)
+    h0, h1 = h[:-1], h[1:]
+    d0, d1 = delta[:-1], delta[1:]
+    m = (h1 * d0 + h0 * d1) / (h0 + h1)
+    bound = 3.0 * np.minimum(np.abs(d0), np.abs(d1))
+    M[1:-1] = np.where(d0 * d1 > 0.0, np.sign(m) * np.minimum(np.abs(m), bound), 0.0)
+    # ends: the three-point estimate, kept to the first (last) slope's sign and to 3x its size
+    for end, (ha, hb, da, db) in ((0, (h[0], h[1], delta[0], delta[1])), (-1, (h[-1], h[-2], delta[-1], delta[-2]))):
+        m = ((2.0 * ha + hb) * da - ha * db) / (ha + hb)
+        m = np.where(np.sign(m) != np.sign(da), 0.0, m)
+        m = np.where((np.sign(da) != np.sign(db)) & (np.abs(m) > 3.0 * np.abs(da)), 3.0 * da, m)
+        M[end] = m
+    return M
 
 
-def _spline_derivatives(s, Y, Mk, seg, t):
-    """First and second derivatives of the spline at points ``t`` lying in segments ``seg``."""
+def _hermite_derivatives(s, Y, M, seg, t):
+    """First and second derivatives of the Hermite cubic at points ``t`` lying in segments ``seg``."""
     h = (s[seg + 1] - s[seg])[:, None]
-    a = (s[seg + 1][:, None] - t[:, None]) / h
-    b = 1.0 - a
-    M0, M1 = Mk[seg], Mk[seg + 1]
-    d1 = (Y[seg + 1] - Y[seg]) / h - (3 * a * a - 1) / 6 * h * M0 + (3 * b * b - 1) / 6 * h * M1
-    d2 = a * M0 + b * M1
+    u = (t[:, None] - s[seg][:, None]) / h
+    y0, y1, m0, m1 = Y[seg], Y[seg + 1], M[seg] * h, M[seg + 1] * h
+    d1 = ((6 * u * u - 6 * u) * (y0 - y1) + (3 * u * u - 4 * u + 1) * m0 + (3 * u * u - 2 * u) * m1) / h
+    d2 = ((12 * u - 6) * (y0 - y1) + (6 * u - 4) * m0 + (6 * u - 2) * m1) / (h * h)
     return d1, d2
 
 
@@ -171,7 +164,7 @@ def _spline_derivatives(s, Y, Mk, seg, t):
 # the phase-plane passes
 
 
-def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0):
+def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     """Times, velocities and accelerations for the path through the rows of ``Q``.
 
     Args:
@@ -179,6 +172,8 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0):
         vmax, amax: k scaled limits.
         grid_points: minimum number of grid intervals.
         P: optional N x 3 positions of a link whose speed is limited to ``vcart``.
+        PJ: optional N x 3 x k Jacobians of those positions: the link's path then has the
+            tangents the joints' path gives it at the waypoints (else its own estimate).
     """
     N, k = Q.shape
     times = np.zeros(N)
@@ -198,7 +193,9 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0):
     s = np.concatenate(([0.0], np.cumsum(seg_len[moving])))
     L = s[-1]
     Y = Qk if P is None else np.hstack((Qk, P[keep]))
-    Mk = _spline_second_derivatives(s, Y)
+    M = _pchip_slopes(s, Y)
+    if PJ is not None:
+        M[:, k:] = np.einsum("nij,nj->ni", PJ[keep], M[:, :k])
 
     # grid: each knot interval split into equal parts, about grid_points parts in total
     h = np.diff(s)
@@ -209,20 +206,30 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0):
     grid = np.concatenate((s[seg] + frac * h[seg], [L]))
     seg = np.concatenate((seg, [n - 2]))
     knot_index = np.concatenate(([0], np.cumsum(parts)))
-    d1, d2 = _spline_derivatives(s, Y, Mk, seg, grid)
+    d1, d2 = _hermite_derivatives(s, Y, M, seg, grid)
     qp, qpp = d1[:, :k], d2[:, :k]
     G = len(grid)
+    # the curvature jumps at the knots: each grid interval is held to the acceleration limits at
+    # both of its ends, as its own cubic has them. At the end, q'' ṡ² is taken at the end's x,
+    # x_i + 2Δ u (u is constant over the interval), so those constraints are linear in (u, x_i)
+    # too: coefficient q'_e + 2Δ q''_e on u and q''_e on x_i.
+    e1, e2 = _hermite_derivatives(s, Y, M, seg[:-1], grid[1:])
+    two_delta = 2.0 * np.diff(grid)[:, None]
+    cp = np.hstack((qp, np.vstack((e1[:, :k] + two_delta * e2[:, :k], qp[-1:]))))
+    cpp = np.hstack((qpp, np.vstack((e2[:, :k], qpp[-1:]))))
+    amax = np.concatenate((amax, amax))
 
     # constraints per grid point: velocity bound on x, and u in [max(-c + b x), min(c + b x)]
-    aq = np.abs(qp)
+    aq = np.abs(cp)
     active = aq > _EPS_TANGENT
     safe = np.where(active, aq, 1.0)
     with np.errstate(divide="ignore", invalid="ignore"):
-        xmax = np.min(np.where(active, (vmax / safe) ** 2, np.inf), axis=1)
+        vq = np.abs(qp)
+        xmax = np.min(np.where(vq > _EPS_TANGENT, (vmax / np.where(vq > _EPS_TANGENT, vq, 1.0)) ** 2, np.inf), axis=1)
         c = np.where(active, amax / safe, np.inf)
-        beta = np.where(active, -qpp / np.where(active, qp, 1.0), 0.0)
-        # joints that do not move along the tangent: |q''| x <= a
-        curv = np.abs(qpp)
+        beta = np.where(active, -cpp / np.where(active, cp, 1.0), 0.0)
+        # constraints whose u coefficient vanishes: |q''| x <= a
+        curv = np.abs(cpp)
         xmax = np.minimum(xmax, np.min(np.where(~active & (curv > 1e-12), amax / np.where(curv > 0, curv, 1.0), np.inf), axis=1))
         # the u-interval is empty above min over pairs with beta_i > beta_j of (c_i + c_j) / (beta_i - beta_j)
         db = beta[:, :, None] - beta[:, None, :]
@@ -230,7 +237,7 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0):
         pair = np.where(db > 0, cc / np.where(db > 0, db, 1.0), np.inf)
         xmax = np.minimum(xmax, pair.reshape(G, -1).min(axis=1))
         if P is not None:
-            pp = d1[:, k:]
+            pp = d1[:, k:]  # (the link's position is C1: its speed bound at the grid points)
             speed2 = (pp**2).sum(axis=1)
             xmax = np.minimum(xmax, np.where(speed2 > 1e-18, vcart * vcart / np.where(speed2 > 0, speed2, 1.0), np.inf))
     if not np.all(np.isfinite(xmax)):
@@ -301,6 +308,18 @@ def _unwrapped_positions(trajectory: RobotTrajectory) -> np.ndarray:
     return unwrap_path(trajectory.positions.astype(float), continuous)
 
 
+def _link_positions(trajectory: RobotTrajectory, frame: str) -> tuple[np.ndarray, np.ndarray]:
+    """Positions (N x 3) of a link or attached frame at the waypoints, and their Jacobians
+    (N x 3 x k) with respect to the trajectory's group variables."""
+    P, PJ = [], []
+    for w in trajectory.waypoints:
+        entry = w.get_attached_frame(frame)
+        link, offset = entry if entry is not None else (frame, None)
+        P.append(w.get_frame_transform(frame)[:3, 3])
+        PJ.append(w.get_jacobian(trajectory.group, link, None if offset is None else offset[:3, 3])[:3])
+    return np.array(P), np.array(PJ)
+
+
 def time_parameterize(
     trajectory: RobotTrajectory,
     max_velocity_scaling_factor: float = 1.0,
@@ -344,12 +363,12 @@ def time_parameterize(
             full = w.positions.copy()
             full[idx] = q
             w.positions = full
-    P = None
+    P = PJ = None
     if max_cartesian_speed > 0:
         if not cartesian_speed_limited_link:
             raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
-        P = np.array([w.get_frame_transform(cartesian_speed_limited_link)[:3, 3] for w in trajectory.waypoints])
-    times, V, A = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed))
+        P, PJ = _link_positions(trajectory, cartesian_speed_limited_link)
+    times, V, A = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed), PJ)
     trajectory.times = times
     trajectory.velocities = V
     trajectory.accelerations = A
