@@ -73,3 +73,22 @@ def test_thin_board_shelf_is_repaired_edge_by_edge(panda):
     assert stats.fine_retries >= 1
     assert stats.states_checked < 15000, stats
     assert motion_bench.dense_free(scene, traj, "panda_arm", 0.001)
+
+
+def test_an_optimizing_planner_keeps_time_to_prove_its_path(panda):
+    """BITstar searches until its time is up; its path (which hugs the table) needs its edges
+    proven and repaired afterwards. With the whole timeout spent searching, the found path was
+    dropped ("TIMED_OUT: no collision-free path ...") at every timeout above 0.25 s; MoveIt
+    returns the path its optimizing planner found."""
+    from bench.problems import load_problem
+    from mtc.planners.ompl_pipeline import OMPLPipeline
+
+    problem = load_problem("table_pick", 4)
+    scene = motion_bench.build_scene(panda, problem.obstacles, problem.allowed_collisions,
+                                     motion_bench.finger_opening(problem))
+    start, goal = motion_bench.problem_states(scene, problem)
+    result, traj = OMPLPipeline().plan_joint(scene, start, goal, "panda_arm", planner_id="BITstarkConfigDefault",
+                                             timeout=0.5, seed=0)
+    assert result, result.message
+    assert motion_bench.dense_free(scene, traj, "panda_arm", 0.001)
+    assert np.allclose(traj.positions[-1], problem.goal_arm())

@@ -232,6 +232,10 @@ _MOVEIT_NAMES = {
     "ABITstar": "ABITstar",
     "AITstar": "AITstar",
 }
+#: Share of the remaining time an optimizing planner (which searches until its time is up) gets
+#: for its searches; the rest is kept for proving its path collision-free in full and repairing
+#: the edges that fail (MoveIt returns such a path after its planner's time; mtc must prove it).
+OPTIMIZING_SEARCH_SHARE = 0.75
 # planners that keep improving until the time is up (MoveIt gives them the whole budget)
 _OPTIMIZING = {"RRTstar", "PRMstar", "BITstar", "InformedRRTstar", "SORRTstar", "AORRTC", "ABITstar", "AITstar"}
 
@@ -1335,8 +1339,11 @@ class OMPLPipeline:
                 break
             stats.attempts += 1
             t_plan = time.perf_counter()
-            # optimizing planners use all the time they get: share it between the attempts
-            share = (req.deadline - t_plan) / (attempts - attempt) if cls_name in _OPTIMIZING else None
+            # optimizing planners use all the time they get: share it between the attempts, with
+            # time kept back to prove and repair the path they find
+            share = None
+            if cls_name in _OPTIMIZING:
+                share = OPTIMIZING_SEARCH_SHARE * (req.deadline - t_plan) / (attempts - attempt)
             before = checker.states_checked
             run_seed = seed + attempt + 1000003 * renewed
             if renewed:
