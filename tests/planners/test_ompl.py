@@ -353,6 +353,21 @@ def test_goal_outside_bounds(ready_scene, pipeline):
     assert result.message.startswith("GOAL_STATE_INVALID: goal state: joint 'panda_joint1' = 4 is outside")
 
 
+def test_goal_within_its_tolerance_of_a_bound_is_planned_to_the_bound(ready_scene, pipeline):
+    """As MoveIt's joint constraint, whose region reaches into the bounds: the Panda's own
+    'extended' state sent as float32 lies 3e-9 above joint 4's bound, within the goal tolerance
+    (1e-4); it is planned to the bound. Beyond the tolerance it is reported, with the excess."""
+    upper = ready_scene.robot_model.upper_bounds[3]
+    goal = _state(ready_scene, panda_joint4=float(np.float32(upper)))
+    assert goal.positions[3] > upper
+    result, traj = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM)
+    assert result, result.message
+    assert traj[-1].positions[3] == upper
+    goal = _state(ready_scene, panda_joint4=upper + 0.01)
+    result, _ = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM)
+    assert not result and result.message.endswith(f"is outside its bounds [-3.0718, {upper:.6g}] by 0.01")
+
+
 def test_timeout(blocked, pipeline):
     scene, start, goal = blocked
     result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=1e-4)

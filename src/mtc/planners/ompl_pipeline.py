@@ -970,7 +970,7 @@ class OMPLPipeline:
         if failure is not None:
             return failure
         x_goal = goal.positions[req.group.variable_indices].astype(float)
-        failure = self._check_goal(req, x_goal, "goal state")
+        failure = self._check_goal(req, x_goal, "goal state", goal_joint_tolerance)
         goals = [x_goal]
         if failure is not None:
             # as MoveIt, whose joint goal is the region within the tolerance of every joint:
@@ -1161,19 +1161,23 @@ class OMPLPipeline:
         hi = np.where(np.isfinite(hi), hi, np.pi)
         return lo, hi
 
-    def _check_goal(self, req: _Request, x_goal: np.ndarray, what: str) -> str | None:
-        """None when ``x_goal`` is a valid goal, else the failure message."""
+    def _check_goal(self, req: _Request, x_goal: np.ndarray, what: str, tolerance: float = 0.0) -> str | None:
+        """None when ``x_goal`` is a valid goal, else the failure message. A joint value beyond
+        its bound by no more than ``tolerance`` (the goal's joint tolerance) is moved onto the
+        bound: the goal region reaches into the bounds there (as MoveIt's joint constraint)."""
         model = req.scene.robot_model
         jmg = req.group
         cont = model.continuous_mask[jmg.variable_indices]
         x_goal[cont] = wrap_angle(x_goal[cont])
         lo, hi = self._group_bounds(model, jmg.variable_indices)
-        bad = np.nonzero((x_goal < lo - 1e-9) | (x_goal > hi + 1e-9))[0]
+        slack = max(1e-9, float(tolerance))
+        bad = np.nonzero((x_goal < lo - slack) | (x_goal > hi + slack))[0]
         if bad.size:
             k = int(bad[0])
+            excess = max(lo[k] - x_goal[k], x_goal[k] - hi[k])
             return (
                 f"GOAL_STATE_INVALID: {what}: joint '{jmg.variable_names[k]}' = {x_goal[k]:.6g} is outside "
-                f"its bounds [{lo[k]:.6g}, {hi[k]:.6g}]"
+                f"its bounds [{lo[k]:.6g}, {hi[k]:.6g}] by {excess:.3g}"
             )
         np.clip(x_goal, lo, hi, out=x_goal)
         if not req.checker.state_ok(x_goal):
