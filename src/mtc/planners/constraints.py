@@ -670,13 +670,13 @@ class ConstraintEvaluator:
                 if o.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
                     v = rotation_vector(diff)
                     clamped = np.clip(v, -tol, tol)
-                    if np.allclose(clamped, v):
+                    if (clamped == v).all():  # within the shrunk tolerance (clip changed nothing)
                         continue
                     goal = R_ref @ pin.exp3(clamped)
                 else:
                     a = euler_xyz(diff)
                     clamped = np.clip(a, -tol, tol)
-                    if np.allclose(clamped, a):
+                    if (clamped == a).all():
                         continue
                     goal = R_ref @ _euler_xyz_matrix(*clamped)
                 J = pin.getFrameJacobian(pm, data, fid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:, indices]
