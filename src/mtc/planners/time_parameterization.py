@@ -6,8 +6,9 @@ the path is traversed as fast as the joint velocity and acceleration limits allo
 ``max_velocity_scaling_factor`` and ``max_acceleration_scaling_factor``. The waypoints are kept
 (MoveIt's TOTG resamples them; MTC's planners and cost terms only need the times).
 
-How: the waypoints are joined by a monotone piecewise cubic ``q(s)`` (Fritsch-Carlson's
-shape-preserving Hermite interpolant) in the joint-space arc length ``s``: the path has a
+How: the waypoints are joined by a monotone piecewise cubic Hermite interpolant ``q(s)``
+(three-point tangents held to de Boor and Swartz's monotonicity bound) in the joint-space arc
+length ``s``: the path has a
 continuous tangent ``q'(s)``, stays on straight lines between collinear waypoints, and between
 two waypoints no joint leaves the range of its two values (a joint that stands still has zero
 velocity; nothing overshoots a bound the waypoints touch). Along the path, ``q̇ = q' ṡ`` and
@@ -121,9 +122,9 @@ class TimeOptimalTrajectoryGeneration(TimeParameterization):
 # shape-preserving cubic through the waypoints, parameterized by arc length
 
 
-def _pchip_slopes(s: np.ndarray, Y: np.ndarray) -> np.ndarray:
-    """Tangents at the knots of the monotone piecewise cubic Hermite interpolant through
-    ``(s, Y)`` (Fritsch and Carlson; columns of Y are independent curves): a coordinate that
+def _monotone_slopes(s: np.ndarray, Y: np.ndarray) -> np.ndarray:
+    """Tangents at the knots of a monotone piecewise cubic Hermite interpolant through
+    ``(s, Y)`` (columns of Y are independent curves): a coordinate that
     turns or stands still at a knot gets a zero tangent there, so between two knots each
     coordinate stays between its two values (no overshoot past a waypoint, a bound or a
     stationary joint's value), and collinear waypoints give the straight line."""
@@ -193,7 +194,7 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     s = np.concatenate(([0.0], np.cumsum(seg_len[moving])))
     L = s[-1]
     Y = Qk if P is None else np.hstack((Qk, P[keep]))
-    M = _pchip_slopes(s, Y)
+    M = _monotone_slopes(s, Y)
     if PJ is not None:
         M[:, k:] = np.einsum("nij,nj->ni", PJ[keep], M[:, :k])
 
