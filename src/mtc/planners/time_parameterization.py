@@ -55,6 +55,7 @@ __all__ = [
 ]
 
 _EPS_TANGENT = 1e-9  # a joint whose path tangent is smaller than this does not limit ṡ
+_MIN_PARTS = 2  # grid intervals per waypoint interval, at least
 
 
 def check_scaling_factor(name: str, value: float) -> float:
@@ -198,9 +199,10 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     if PJ is not None:
         M[:, k:] = np.einsum("nij,nj->ni", PJ[keep], M[:, :k])
 
-    # grid: each knot interval split into equal parts, about grid_points parts in total
+    # grid: each knot interval split into equal parts, about grid_points parts in total and at
+    # least two per interval (the curvature of an interval next to a corner changes fast)
     h = np.diff(s)
-    parts = np.maximum(1, np.ceil(h * (grid_points / L) - 1e-9)).astype(int)
+    parts = np.maximum(_MIN_PARTS, np.ceil(h * (grid_points / L) - 1e-9)).astype(int)
     seg = np.repeat(np.arange(n - 1), parts)
     starts = np.repeat(np.cumsum(parts) - parts, parts)
     frac = (np.arange(parts.sum()) - starts) / np.repeat(parts, parts)
@@ -211,14 +213,19 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     qp, qpp = d1[:, :k], d2[:, :k]
     G = len(grid)
     # the curvature jumps at the knots: each grid interval is held to the acceleration limits at
-    # both of its ends, as its own cubic has them. At the end, q'' ṡ² is taken at the end's x,
-    # x_i + 2Δ u (u is constant over the interval), so those constraints are linear in (u, x_i)
-    # too: coefficient q'_e + 2Δ q''_e on u and q''_e on x_i.
-    e1, e2 = _hermite_derivatives(s, Y, M, seg[:-1], grid[1:])
-    two_delta = 2.0 * np.diff(grid)[:, None]
-    cp = np.hstack((qp, np.vstack((e1[:, :k] + two_delta * e2[:, :k], qp[-1:]))))
-    cpp = np.hstack((qpp, np.vstack((e2[:, :k], qpp[-1:]))))
-    amax = np.concatenate((amax, amax))
+    # its start, its middle and its end, as its own cubic has them. With u constant over the
+    # interval, x = ṡ² grows linearly in s: x_i + 2 f Δ u at the fraction f of it, so q' u + q'' x
+    # there is linear in (u, x_i) too: coefficient q' + 2 f Δ q'' on u and q'' on x_i.
+    cols_p, cols_pp = [qp], [qpp]
+    delta = np.diff(grid)[:, None]
+    mid = None
+    for f in (0.5, 1.0):
+        f1, f2 = _hermite_derivatives(s, Y, M, seg[:-1], grid[:-1] + f * delta[:, 0])
+        mid = f1 if mid is None else mid
+        cols_p.append(np.vstack((f1[:, :k] + 2.0 * f * delta * f2[:, :k], qp[-1:])))
+        cols_pp.append(np.vstack((f2[:, :k], qpp[-1:])))
+    cp, cpp = np.hstack(cols_p), np.hstack(cols_pp)
+    amax = np.tile(amax, len(cols_p))
 
     # constraints per grid point: velocity bound on x, and u in [max(-c + b x), min(c + b x)]
     aq = np.abs(cp)
@@ -241,16 +248,30 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
             pp = d1[:, k:]  # (the link's position is C1: its speed bound at the grid points)
             speed2 = (pp**2).sum(axis=1)
             xmax = np.minimum(xmax, np.where(speed2 > 1e-18, vcart * vcart / np.where(speed2 > 0, speed2, 1.0), np.inf))
+        # speeds at the middle of each interval, where x = x_i + Δ u: (q'_m)² (x_i + Δ u) <= v²
+        # for every joint (and the link) bounds u from above, u <= (W - x_i) / Δ, with W the
+        # least of v² / (q'_m)²
+        mq = np.abs(mid[:, :k])
+        W = np.min(np.where(mq > _EPS_TANGENT, (vmax / np.where(mq > _EPS_TANGENT, mq, 1.0)) ** 2, np.inf), axis=1)
+        if P is not None:
+            speed2 = (mid[:, k:] ** 2).sum(axis=1)
+            W = np.minimum(W, np.where(speed2 > 1e-18, vcart * vcart / np.where(speed2 > 0, speed2, 1.0), np.inf))
+        # ... which leaves room for u >= -c + b x only below (c + W / Δ) / (b + 1 / Δ), and for
+        # x_{i+1} >= 0 (u >= -x_i / 2Δ) only below 2 W
+        inv = 1.0 / delta
+        lower = beta[:-1] + inv
+        room = np.where(lower > 0, (c[:-1] + W[:, None] * inv) / np.where(lower > 0, lower, 1.0), np.inf).min(axis=1)
+        xmax[:-1] = np.minimum(xmax[:-1], np.minimum(room, 2.0 * W))
     if not np.all(np.isfinite(xmax)):
         # a point where nothing limits the speed (the path does not move any joint): cannot be
         xmax = np.where(np.isfinite(xmax), xmax, 0.0)
+    w_rows = np.where(np.isfinite(W), W, 1e300).tolist()
 
     dsa = np.diff(grid)
     ds = dsa.tolist()
     c_fin = np.where(np.isfinite(c), c, 1e300)
     c_rows = c_fin.tolist()
     b_rows = beta.tolist()
-    xm = xmax.tolist()
     # backward-pass lines: x_i <= (x_{i+1} + 2Δ c) / (1 + 2Δ b) = A + B x_{i+1} where 1 + 2Δ b > 0
     two_d = 2.0 * dsa[:, None]
     slope = 1.0 + two_d * beta[:-1]
@@ -258,6 +279,11 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     safe_slope = np.where(binding, slope, 1.0)
     A_rows = np.where(binding, two_d * c_fin[:-1] / safe_slope, np.inf).tolist()
     B_rows = np.where(binding, 1.0 / safe_slope, 0.0).tolist()
+    # where 1 + 2Δ b < 0, the largest u (c + b x) still leaves x_{i+1} = x_i + 2Δ u >= 0 only for
+    # x_i <= 2Δ c / -(1 + 2Δ b): above it the interval cannot be crossed without stopping
+    falling = (slope < 0.0) & np.isfinite(c[:-1])
+    crossable = np.where(falling, two_d * c_fin[:-1] / np.where(falling, -slope, 1.0), np.inf).min(axis=1)
+    xm = np.minimum(xmax, np.concatenate((crossable, [np.inf]))).tolist()
 
     # backward pass: largest x at each grid point from which the end (at rest) is reachable
     xb = [0.0] * G
@@ -277,6 +303,9 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
         two_di = 2.0 * ds[i]
         xi = x[i]
         umax = (xb[i + 1] - xi) / two_di
+        mid_max = 2.0 * (w_rows[i] - xi) / two_di  # the speeds at the interval's middle
+        if mid_max < umax:
+            umax = mid_max
         umin = -math.inf
         for ci, bi in zip(c_rows[i], b_rows[i]):
             bx = bi * xi
