@@ -331,3 +331,27 @@ def test_solution_methods(panda_task, tmp_path):
     arrays = solution.toArrays()
     np.testing.assert_array_equal(arrays.positions, solution_arrays(solution).positions)
     assert solution.toArrays(joint_names=["panda_joint1"]).positions.shape[1] == 1
+
+
+def test_a_motion_already_at_its_goal_exports_for_a_controller():
+    """MTC's pick-place opening: "open hand" when the hand is already open. The motion is its
+    first waypoint at rest (MoveIt's TOTG keeps one waypoint when there are not two different
+    ones), so the solution exports with strictly increasing times instead of raising."""
+    task = core.Task()
+    task.loadRobotModel()
+    task.add(stages.CurrentState("current"))
+    open_hand = stages.MoveTo("open hand", core.JointInterpolationPlanner())
+    open_hand.group = "hand"
+    open_hand.setGoal("open")
+    task.add(open_hand)
+    up = stages.MoveRelative("up", core.CartesianPath())
+    up.group = "panda_arm"
+    up.setDirection(msgs.Vector3Stamped(header=msgs.Header(frame_id="world"), vector=msgs.Vector3(z=0.05)))
+    task.add(up)
+    mtc.reset_current_scene()  # the arm at 'ready', the hand 'open'
+    assert task.plan()
+    solution = task.solutions[0]
+    legs = [leaf.trajectory for leaf in flatten(solution) if leaf.trajectory is not None]
+    assert len(legs[0]) == 1 and legs[0].times.tolist() == [0.0]
+    arrays = solution_arrays(solution)
+    assert np.all(np.diff(arrays.times) > 0)

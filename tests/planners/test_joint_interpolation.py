@@ -77,9 +77,17 @@ def test_scaling_factors_slow_the_motion(ready_scene):
 
 
 def test_identical_start_and_goal(ready_scene):
-    """Start equal to goal: start and goal waypoints, success."""
-    result, traj = JointInterpolationPlanner().plan(ready_scene, ready_scene.diff(), "panda_arm", 1.0)
+    """Start equal to goal: start and goal waypoints, success; the time parameterization (as
+    MoveIt's TOTG, "only the first waypoint if there are not multiple diverse points") then
+    leaves the start alone, at rest: a controller refuses two points at the same time."""
+    untimed = JointInterpolationPlanner()
+    untimed.setTimeParameterization(None)
+    result, traj = untimed.plan(ready_scene, ready_scene.diff(), "panda_arm", 1.0)
     assert result and len(traj) == 2
+    result, traj = JointInterpolationPlanner().plan(ready_scene, ready_scene.diff(), "panda_arm", 1.0)
+    assert result and len(traj) == 1
+    assert traj.times.tolist() == [0.0] and traj.velocities.tolist() == [[0.0] * 7]
+    np.testing.assert_array_equal(traj[0].positions, ready_scene.current_state.positions)
 
 
 def test_start_state_in_collision(ready_scene, add_box):

@@ -370,7 +370,8 @@ def time_parameterize(
 
     Returns:
         The trajectory, with times, velocities and accelerations set, and its continuous
-        joints unwound (each step the short way round, as MoveIt's ``unwind()``).
+        joints unwound (each step the short way round, as MoveIt's ``unwind()``); a trajectory
+        whose waypoints are all the same is reduced to its first one (as MoveIt's TOTG).
 
     Raises:
         ValueError: a scaling factor outside (0, 1], a negative Cartesian speed, or a Cartesian
@@ -398,6 +399,15 @@ def time_parameterize(
         if not cartesian_speed_limited_link:
             raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
         P, PJ = _link_positions(trajectory, cartesian_speed_limited_link)
+    if len(Q) > 1 and not np.any(Q[1:] != Q[0]):
+        # as MoveIt's TOTG: a path without two different points is its first waypoint, at rest
+        # (a controller refuses two points at the same time)
+        first = trajectory.waypoints[0]
+        trajectory.clear()
+        trajectory.add_suffix_waypoint(first)
+        Q = Q[:1]
+        P = None if P is None else P[:1]
+        PJ = None if PJ is None else PJ[:1]
     times, V, A = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed), PJ)
     trajectory.times = times
     trajectory.velocities = V
