@@ -12,6 +12,8 @@ import threading
 from pathlib import Path
 
 import numpy as np
+import math
+
 import pytest
 
 import mtc
@@ -264,3 +266,41 @@ def test_task_execute_plays_and_honours_preempt(panda_task):
 def test_task_publish_without_viewer_is_quiet(panda_task, monkeypatch):
     monkeypatch.setenv("MTC_NO_VIEWER", "1")
     assert panda_task.publish(panda_task.solutions[0]) is None
+
+
+def test_a_continuous_joint_a_turn_from_the_start_is_at_the_start():
+    """A continuous joint that ended a motion at 3.28 (3.0 -> -3.0 the short way, unwound) stands
+    where the next solution, planned from -3.0, starts: as MoveIt's start check, which wraps
+    continuous joints, execute() plays it instead of failing with 'away from the start'."""
+    import os
+
+    from mtc.scene.robot_model import RobotModel
+
+    data = os.path.join(os.path.dirname(__file__), "data")
+    toy = RobotModel(os.path.join(data, "toy_robot.urdf"), os.path.join(data, "toy_robot.srdf"))
+    try:
+        mtc.current_scene(toy).current_state.positions = [3.0, 0.0, 0.0]  # a scene of the toy robot
+        task = core.Task()
+        task.setRobotModel(toy)
+        task.add(stages.CurrentState("current"))
+        move = stages.MoveTo("turn", core.JointInterpolationPlanner())
+        move.group = "group"
+        move.setGoal({"base-link1-joint": -3.0})
+        task.add(move)
+        assert task.plan()
+        assert execute(task.solutions[0])
+        assert mtc.current_scene().current_state.positions[0] == pytest.approx(2 * math.pi - 3.0)
+        # plan again from -3.0: the robot stands at 3.28, the same angle
+        start = mtc.PlanningScene(toy)
+        start.current_state.positions = [-3.0, 0.0, 0.0]
+        again = core.Task()
+        again.setRobotModel(toy)
+        again.add(stages.FixedState("there", start))
+        back = stages.MoveTo("back", core.JointInterpolationPlanner())
+        back.group = "group"
+        back.setGoal({"base-link1-joint": 3.0})
+        again.add(back)
+        assert again.plan()
+        assert execute(again.solutions[0])
+    finally:
+        mtc.reset_current_scene()

@@ -23,6 +23,7 @@ import numpy as np
 
 from mtc.core.storage import SolutionBase, SolutionSequence, SubTrajectory, WrappedSolution
 from mtc.core.task import MoveItErrorCode
+from mtc.scene.robot_model import shortest_delta
 
 __all__ = ["CONTROL_FAILED", "DEFAULT_START_TOLERANCE", "execute", "flatten", "publish"]
 
@@ -86,13 +87,15 @@ def _check_preempt_arg(preempt) -> None:
 
 
 def _start_deviation(scene, trajectory) -> tuple[str, float] | None:
-    """The joint of ``trajectory``'s first waypoint farthest from ``scene``'s robot state."""
+    """The joint of ``trajectory``'s first waypoint farthest from ``scene``'s robot state
+    (continuous joints the short way: the same angle a turn apart is no deviation, as MoveIt's
+    start check wraps them)."""
     if len(trajectory) == 0 or trajectory.robot_model is not scene.robot_model:
         return None
     idx = trajectory.group.variable_indices
     first = np.asarray(trajectory.waypoints[0].positions)[idx]
     now = np.asarray(scene.current_state.positions)[idx]
-    dev = np.abs(first - now)
+    dev = np.abs(shortest_delta(first - now, trajectory.robot_model.continuous_mask[idx]))
     k = int(np.argmax(dev))
     return trajectory.joint_names[k], float(dev[k])
 
