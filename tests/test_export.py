@@ -355,3 +355,7 @@ def test_a_motion_already_at_its_goal_exports_for_a_controller():
     assert len(legs[0]) == 1 and legs[0].times.tolist() == [0.0]
     arrays = solution_arrays(solution)
     assert np.all(np.diff(arrays.times) > 0)
+    # MoveRelative's arrow markers compare by value too (a JSON round trip)
+    msg = solution_to_msg(solution)
+    assert any(m.get("type") == "arrow" for sub in msg.sub_trajectory for m in sub.info.markers)
+    assert solution_from_json(solution_to_json(solution)) == msg

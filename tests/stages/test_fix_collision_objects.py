@@ -68,7 +68,7 @@ def test_object_is_pushed_out_forward(make_task, ready_scene, box):
     markers = fix.solutions[0].markers
     assert markers and all(m["ns"] == "collisions" and m["color"] == "green" and m["name"] == "obj"
                            for m in markers)
-    np.testing.assert_allclose(sum(m["end"] - m["start"] for m in markers), moved, atol=1e-9)
+    np.testing.assert_allclose(sum(np.subtract(m["end"], m["start"]) for m in markers), moved, atol=1e-9)
 
 
 def test_too_deep_is_a_failure(make_task, ready_scene, box, caplog):
@@ -86,7 +86,7 @@ def test_too_deep_is_a_failure(make_task, ready_scene, box, caplog):
     assert "obj" in caplog.text and "max_penetration" in caplog.text
     # as MTC, the red arrow (longer than max_penetration) is what shows why it failed
     last = fix.failures[0].markers[-1]
-    assert last["color"] == "red" and np.linalg.norm(last["end"] - last["start"]) > 0.01
+    assert last["color"] == "red" and np.linalg.norm(np.subtract(last["end"], last["start"])) > 0.01
 
 
 def test_direction_replaces_the_normal(make_task, ready_scene, box):

@@ -457,7 +457,7 @@ def test_markers_show_reached_and_missing_parts(make_task, ready_scene, move, sp
     assert task.plan()
     (arrow,) = move.solutions[0].markers
     assert arrow["color"] == "green" and arrow["ns"] == "move"
-    assert arrow["end"] - arrow["start"] == pytest.approx([0.1, 0, 0], abs=1e-3)
+    assert np.subtract(arrow["end"], arrow["start"]) == pytest.approx([0.1, 0, 0], abs=1e-3)
 
     hand = ready_scene.current_state.get_global_link_transform("panda_hand")[:3, 3]
     ready_scene.apply_collision_object(sphere("object", (hand[0], hand[1], hand[2] - 0.2), radius=0.01))

@@ -323,6 +323,8 @@ def frame_marker(ns: str, name: str, pose, frame_id: str = "world", size: float 
 
 
 def arrow_marker(ns: str, name: str, start, end, color: str = "green", frame_id: str = "world") -> dict:
-    """An arrow marker from ``start`` to ``end`` (3-vectors in ``frame_id``); ``color`` "green" (ok) or "red"."""
+    """An arrow marker from ``start`` to ``end`` (3-vectors in ``frame_id``, kept as lists of
+    floats so that messages holding markers compare by value); ``color`` "green" (ok) or "red"."""
     return {"type": "arrow", "ns": ns, "name": name, "frame_id": frame_id,
-            "start": np.array(start, dtype=float), "end": np.array(end, dtype=float), "color": color}
+            "start": np.asarray(start, dtype=float).tolist(), "end": np.asarray(end, dtype=float).tolist(),
+            "color": color}
