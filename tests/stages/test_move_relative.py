@@ -469,3 +469,18 @@ def test_markers_show_reached_and_missing_parts(make_task, ready_scene, move, sp
     assert not task.plan()
     colors = [m["color"] for m in blocked.failures[0].markers]
     assert colors == ["green", "red"]
+
+
+def test_joint_deltas_with_cartesian_path_and_no_tip_say_why(caplog):
+    """CartesianPath cannot move a group without a unique tip (the hand) and MoveRelative then
+    fails silently (no trajectory to show, as MTC); as MTC's planner, the reason is a warning."""
+    task = core.Task()
+    task.loadRobotModel()
+    task.add(stages.CurrentState("current"))
+    rel = stages.MoveRelative("rel", core.CartesianPath())
+    rel.group = "hand"
+    rel.setDirection({"panda_finger_joint1": -0.01})
+    task.add(rel)
+    with caplog.at_level("WARNING", logger="mtc"):
+        assert not task.plan()
+    assert any(r.levelname == "WARNING" and "CartesianPath: missing ik_frame" in r.getMessage() for r in caplog.records)

@@ -14,6 +14,7 @@ valid waypoint and its *fraction* tells how far along the line it got.
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass
 
@@ -26,6 +27,8 @@ from mtc.planners.planner_interface import PathValidity, PlannerInterface, Plann
 from mtc.scene.frames import FrameError, resolve_ik_frame, rigid_inverse
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_trajectory import RobotTrajectory
+
+log = logging.getLogger(__name__)
 
 __all__ = ["CartesianPath", "CartesianPrecision"]
 
@@ -127,6 +130,9 @@ class CartesianPath(PlannerInterface):
         try:
             ik = resolve_ik_frame(from_scene, self.properties.get("ik_frame", None), jmg)
         except FrameError as e:
+            # as MTC's planner, a warning: a stage that gets no trajectory fails silently (MoveRelative
+            # with joint deltas), so this is where the user learns why
+            log.warning("CartesianPath: %s", e)
             return PlannerResult(False, f"CartesianPath: {e}"), None
         target = to_scene.current_state.get_global_link_transform(ik.link) @ ik.offset
         return self.plan_to_pose(
