@@ -240,9 +240,11 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
         curv = np.abs(cpp)
         xmax = np.minimum(xmax, np.min(np.where(~active & (curv > 1e-12), amax / np.where(curv > 0, curv, 1.0), np.inf), axis=1))
         # the u-interval is empty above min over pairs with beta_i > beta_j of (c_i + c_j) / (beta_i - beta_j)
+        # (pairs with beta_i <= beta_j divide by 0: inf, as c > 0)
         db = beta[:, :, None] - beta[:, None, :]
-        cc = c[:, :, None] + c[:, None, :]
-        pair = np.where(db > 0, cc / np.where(db > 0, db, 1.0), np.inf)
+        np.maximum(db, 0.0, out=db)
+        pair = c[:, :, None] + c[:, None, :]
+        np.divide(pair, db, out=pair)
         xmax = np.minimum(xmax, pair.reshape(G, -1).min(axis=1))
         if P is not None:
             pp = d1[:, k:]  # (the link's position is C1: its speed bound at the grid points)
