@@ -63,3 +63,19 @@ def test_unknown_frame_skips_that_pose(make_task, introspection):
     assert task.plan()
     assert len(g.solutions) == 1
     assert [f.comment for f in g.failures] == (["Unknown frame: 'nowhere'"] if introspection else [])
+
+
+def test_add_pose_appends_a_copy_and_refuses_a_non_pose_whole():
+    """addPose keeps a copy (editing the message afterwards changes nothing), refuses anything
+    but a PoseStamped without touching the list, and appends in place (800 poses, each one
+    copy, not the whole list copied again per call)."""
+    stage = stages.FixedCartesianPoses("poses")
+    pose = msgs.PoseStamped(header=msgs.Header(frame_id="world"))
+    for i in range(800):
+        pose.pose.position.x = float(i)
+        stage.addPose(pose)
+    poses = stage.properties.get("poses")
+    assert len(poses) == 800 and [p.pose.position.x for p in poses[:3]] == [0.0, 1.0, 2.0]
+    with pytest.raises(TypeError, match="must be a msgs.PoseStamped"):
+        stage.addPose("world")
+    assert len(stage.properties.get("poses")) == 800

@@ -303,6 +303,15 @@ class Property:
         self._default = value
         self._initialized_from = _SET_VALUE
 
+    def _append(self, item) -> None:
+        """Append ``item`` (checked and copied as a one-item list) to the list this property
+        holds as a manual value, in place: one copy per call where ``set`` would copy the
+        whole list (a stage's ``addPose`` called for many poses)."""
+        if self._initialized_from == _SET_VALUE and isinstance(self._value, list):
+            self._value.extend(self._check([item]))
+        else:
+            self._setValue([*(self.value() or []), item])
+
     def setCurrentValue(self, value) -> None:
         """Set the current value only; :meth:`reset` drops it again.
 

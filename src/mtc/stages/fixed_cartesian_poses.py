@@ -51,7 +51,7 @@ class FixedCartesianPoses(MonitoringGenerator):
 
     def addPose(self, pose: msgs.PoseStamped) -> None:
         """Append a pose to ``poses``."""
-        self.properties.set("poses", [*self.properties.get("poses"), pose])
+        self.properties.property("poses")._append(pose)
 
     def reset(self) -> None:
         super().reset()
