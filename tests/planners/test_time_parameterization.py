@@ -175,14 +175,25 @@ def test_fifty_waypoints_under_five_milliseconds(panda):
     assert np.median(durations) < 5e-3
 
 
-def test_repeated_waypoints_share_a_time(panda):
-    """A waypoint repeated without motion gets its predecessor's time; one waypoint gets time 0."""
-    traj = _curved_path(panda, np.random.default_rng(5), n=10)
-    traj.waypoints.insert(5, traj.waypoints[4].copy())
-    traj._durations.insert(5, 0.0)
+def test_repeated_waypoints_are_removed(panda):
+    """As MoveIt's TOTG ("remove repeated points"): a waypoint that repeats the one before it (a
+    joint interpolation ending a hair short of its goal and then at the goal) is removed, so
+    times strictly increase and a controller takes the trajectory; its neighbours keep their
+    efforts. One waypoint gets time 0."""
+    path = _curved_path(panda, np.random.default_rng(5), n=10)
+    traj = RobotTrajectory(panda, "panda_arm")
+    for k, w in enumerate(path.waypoints):
+        traj.add_suffix_waypoint(w)
+        if k == 4:
+            again = w.copy()
+            again.set_joint_group_positions("panda_arm", w.get_joint_group_positions("panda_arm") + 1e-14)
+            traj.add_suffix_waypoint(again)
+    traj.set_waypoint_efforts(6, 2.0)
+    assert len(traj) == 11
     time_parameterize(traj)
-    assert traj.times[5] == traj.times[4]
-    assert np.all(np.diff(traj.times) >= 0)
+    assert len(traj) == 10 and np.all(np.diff(traj.times) > 0)
+    np.testing.assert_array_equal(traj.positions, path.positions)
+    assert traj.efforts[5].tolist() == [2.0] * 7 and np.isnan(traj.efforts[4]).all()
     single = RobotTrajectory(panda, "panda_arm")
     single.add_suffix_waypoint(_ready(panda))
     time_parameterize(single)

@@ -55,6 +55,7 @@ __all__ = [
 ]
 
 _EPS_TANGENT = 1e-9  # a joint whose path tangent is smaller than this does not limit ṡ
+_REPEATED = 1e-12  # a waypoint closer than this to the one before it repeats it [rad, m]
 _MIN_PARTS = 2  # grid intervals per waypoint interval, at least
 
 
@@ -184,7 +185,7 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     if N < 2:
         return times, V, A
     seg_len = np.sqrt((np.diff(Q, axis=0) ** 2).sum(axis=1))
-    moving = seg_len > 1e-12
+    moving = seg_len > _REPEATED
     # waypoints repeated without motion share the time of their predecessor
     keep = np.concatenate(([True], moving))
     knot_of = np.cumsum(keep) - 1  # waypoint -> knot
@@ -372,8 +373,8 @@ def time_parameterize(
 
     Returns:
         The trajectory, with times, velocities and accelerations set, and its continuous
-        joints unwound (each step the short way round, as MoveIt's ``unwind()``); a trajectory
-        whose waypoints are all the same is reduced to its first one (as MoveIt's TOTG).
+        joints unwound (each step the short way round, as MoveIt's ``unwind()``); a waypoint
+        that repeats the one before it is removed (as by MoveIt's TOTG), so times increase.
 
     Raises:
         ValueError: a scaling factor outside (0, 1], a negative Cartesian speed, or a Cartesian
@@ -401,15 +402,15 @@ def time_parameterize(
         if not cartesian_speed_limited_link:
             raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
         P, PJ = _link_positions(trajectory, cartesian_speed_limited_link)
-    if len(Q) > 1 and not np.any(Q[1:] != Q[0]):
-        # as MoveIt's TOTG: a path without two different points is its first waypoint, at rest
-        # (a controller refuses two points at the same time)
-        first = trajectory.waypoints[0]
-        trajectory.clear()
-        trajectory.add_suffix_waypoint(first)
-        Q = Q[:1]
-        P = None if P is None else P[:1]
-        PJ = None if PJ is None else PJ[:1]
+    keep = np.concatenate(([True], np.sqrt((np.diff(Q, axis=0) ** 2).sum(axis=1)) > _REPEATED))
+    if not keep.all():
+        # as MoveIt's TOTG ("remove repeated points"): a waypoint where the previous one is goes
+        # (a controller refuses two points at the same time); a path without two different
+        # points is its first waypoint, at rest
+        trajectory._keep(keep)
+        Q = Q[keep]
+        P = None if P is None else P[keep]
+        PJ = None if PJ is None else PJ[keep]
     times, V, A = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed), PJ)
     trajectory.times = times
     trajectory.velocities = V

@@ -205,6 +205,15 @@ class RobotTrajectory:
             return None
         return np.array(other[start:], dtype=float) if own is None else np.vstack((own, other[start:]))
 
+    def _keep(self, mask) -> None:
+        """Keep only the waypoints where ``mask`` is true (their efforts with them); the times
+        and timing derivatives are to be set anew."""
+        mask = [bool(m) for m in mask]
+        self.waypoints = [w for w, m in zip(self.waypoints, mask) if m]
+        self._efforts = [e for e, m in zip(self._efforts, mask) if m]
+        self._durations = [0.0] * len(self.waypoints)
+        self.velocities = self.accelerations = None
+
     def reverse(self) -> RobotTrajectory:
         """Reverse in place: waypoints backwards, the same gaps between them (the first gap
         stays first, as MoveIt's reverse()); velocities negate."""
