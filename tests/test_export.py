@@ -359,3 +359,30 @@ def test_a_motion_already_at_its_goal_exports_for_a_controller():
     msg = solution_to_msg(solution)
     assert any(m.get("type") == "arrow" for sub in msg.sub_trajectory for m in sub.info.markers)
     assert solution_from_json(solution_to_json(solution)) == msg
+
+
+def test_a_solution_message_with_an_ik_target_marker_compares_by_value():
+    """ComputeIK's "ik target" marker (the end effector's link poses) is plain data, so a
+    solution message equals its copy instead of raising ValueError."""
+    import copy
+
+    task = core.Task()
+    task.loadRobotModel()
+    mtc.reset_current_scene()
+    task.add(stages.CurrentState("current"))
+    task.add(stages.Connect("connect", [("panda_arm", core.JointInterpolationPlanner())]))
+    pose = stages.GeneratePose("pose")
+    target = msgs.PoseStamped(header=msgs.Header(frame_id="panda_link8"))
+    target.pose.position.z = 0.02
+    target.pose.orientation.w = 1.0
+    pose.pose = target
+    pose.setMonitoredStage(task["current"])
+    ik = stages.ComputeIK("ik", pose)
+    ik.group = "panda_arm"
+    ik.ik_frame = msgs.PoseStamped(header=msgs.Header(frame_id="panda_link8"))
+    ik.properties.configureInitFrom(core.Stage.PropertyInitializerSource.INTERFACE, ["target_pose"])
+    task.add(ik)
+    assert task.plan()
+    msg = solution_to_msg(task.solutions[0])
+    assert any(m.get("ns") == "ik target" for sub in msg.sub_trajectory for m in sub.info.markers)
+    assert copy.deepcopy(msg) == msg

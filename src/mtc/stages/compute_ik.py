@@ -77,10 +77,11 @@ def eef_collisions(scene, link: str, link_target: np.ndarray) -> list[tuple[str,
 def eef_marker(scene, link: str, link_target: np.ndarray) -> dict:
     """MTC's "ik target" marker: ``link`` and the links below it (the end effector, as the
     viewer draws them, half transparent) placed so that ``link`` lies at ``link_target``
-    (4x4, planning frame), the rest of the state as in ``scene``."""
+    (4x4, planning frame), the rest of the state as in ``scene``. The poses are nested lists
+    of floats, so that messages holding the marker compare by value."""
     state = scene.current_state
     shift = link_target @ rigid_inverse(state.get_global_link_transform(link))
-    links = {name: shift @ state.get_global_link_transform(name)
+    links = {name: (shift @ state.get_global_link_transform(name)).tolist()
              for name in scene.robot_model.descendant_link_names(link)}
     return {"type": "links", "ns": "ik target", "name": link, "frame_id": scene.planning_frame,
             "links": links, "opacity": 0.5}
