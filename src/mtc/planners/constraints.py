@@ -31,6 +31,7 @@ read as 1.0, as MoveIt does. Visibility constraints are not supported (a ``Value
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -485,7 +486,8 @@ def _euler_xyz_matrix(a: float, b: float, c: float) -> np.ndarray:
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
-    return np.array([[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]])
+    x, y, z = v.tolist()
+    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
 
 
 def _closest_in_region(region: _Region, local: np.ndarray, margin: float) -> np.ndarray:
@@ -502,6 +504,19 @@ def _closest_in_region(region: _Region, local: np.ndarray, margin: float) -> np.
     if r > d[1]:
         out[:2] *= d[1] / r
     return out
+
+
+def _clip(x: float, lo: float, hi: float) -> float:
+    """``np.clip`` on floats, with its choices at ties (so that results match it bit for bit)."""
+    x = x if x > lo else lo
+    return x if x < hi else hi
+
+
+@functools.lru_cache(maxsize=None)
+def _identity(n: int) -> np.ndarray:
+    eye = np.eye(n)
+    eye.flags.writeable = False
+    return eye
 
 
 class ConstraintEvaluator:
@@ -554,60 +569,72 @@ class ConstraintEvaluator:
         fid, offset = ref
         return offset if fid is None else self._data.oMf[fid] * offset
 
-    def _terms(self, q: np.ndarray, stop: bool):
-        """Yields (kind, constraint, weighted violation); stops at the first violation when
-        ``stop``."""
-        for j in self._joints:
-            v = j.violation(q)
-            yield ("joint", j, j.weight * v)
-            if stop and v > 0.0:
-                return
-        if not self._kinematic:
-            return
+    def _kinematics(self, q: np.ndarray) -> None:
+        """Forward kinematics at ``q`` and the placements of the frames the checks need."""
         pm, data = self._pm, self._data
         pin.forwardKinematics(pm, data, q)
         for fid in self._frame_ids:
             pin.updateFramePlacement(pm, data, fid)
+
+    def _outside(self, p: _Position, link_ref, frame_ref) -> float:
+        """Distance [m] of position constraint ``p``'s point outside its nearest region, at the
+        kinematics last computed."""
+        point = self._pose(link_ref).act(p.offset)
+        header = self._pose(frame_ref)
+        best = math.inf
+        for r in p.regions:
+            best = min(best, r.outside_local((r.pose_inv * header.inverse()).act(point)))
+            if best == 0.0:
+                break
+        return best
+
+    def _diff(self, link_ref, frame_ref) -> np.ndarray:
+        """Rotation from an orientation constraint's target to its link, at the kinematics last
+        computed."""
+        data = self._data
+        fid, offset = link_ref
+        R_link = offset.rotation if fid is None else data.oMf[fid].rotation @ offset.rotation
+        fid, offset = frame_ref
+        if fid is None:
+            return offset.rotation @ R_link  # offset holds the inverse of header * target
+        return (data.oMf[fid].rotation @ offset.rotation).T @ R_link
+
+    def _terms(self, q: np.ndarray):
+        """Yields (kind, constraint, weighted violation) of every constraint."""
+        for j in self._joints:
+            yield ("joint", j, j.weight * j.violation(q))
+        if not self._kinematic:
+            return
+        self._kinematics(q)
         for p, link_ref, frame_ref in self._positions:
-            point = self._pose(link_ref).act(p.offset)
-            fid, offset = frame_ref
-            header = offset if fid is None else data.oMf[fid] * offset
-            best = math.inf
-            for r in p.regions:
-                best = min(best, r.outside_local((r.pose_inv * header.inverse()).act(point)))
-                if best == 0.0:
-                    break
-            v = _excess(best)
-            yield ("position", p, p.weight * v)
-            if stop and v > 0.0:
-                return
+            yield ("position", p, p.weight * _excess(self._outside(p, link_ref, frame_ref)))
         for o, link_ref, frame_ref in self._orientations:
-            fid, offset = link_ref
-            R_link = offset.rotation if fid is None else data.oMf[fid].rotation @ offset.rotation
-            fid, offset = frame_ref
-            if fid is None:
-                diff = offset.rotation @ R_link  # offset holds the inverse of header * target
-            else:
-                diff = (data.oMf[fid].rotation @ offset.rotation).T @ R_link
-            v = o.diff_violation(diff)
-            yield ("orientation", o, o.weight * v)
-            if stop and v > 0.0:
-                return
+            yield ("orientation", o, o.weight * o.diff_violation(self._diff(link_ref, frame_ref)))
 
     def __call__(self, q: np.ndarray) -> bool:
         """Whether every constraint holds at the full joint vector ``q``."""
-        for _, _, v in self._terms(q, True):
-            if v > 0.0:
+        # a plain loop that stops at the first violation: planners ask this for every state
+        for j in self._joints:
+            if j.violation(q) > 0.0:
+                return False
+        if not self._kinematic:
+            return True
+        self._kinematics(q)
+        for p, link_ref, frame_ref in self._positions:
+            if _excess(self._outside(p, link_ref, frame_ref)) > 0.0:
+                return False
+        for o, link_ref, frame_ref in self._orientations:
+            if o.diff_violation(self._diff(link_ref, frame_ref)) > 0.0:
                 return False
         return True
 
     def violation(self, q: np.ndarray) -> float:
         """Weighted sum of the constraint violations at ``q`` (0 when all hold)."""
-        return float(sum(v for _, _, v in self._terms(q, False)))
+        return float(sum(v for _, _, v in self._terms(q)))
 
     def describe(self, q: np.ndarray) -> list[str]:
         """One line per violated constraint at ``q``."""
-        return _describe(self._terms(q, False))
+        return _describe(self._terms(q))
 
 
     def project(
@@ -666,19 +693,14 @@ class ConstraintEvaluator:
                 ffid, foff = frame_ref
                 R_ref = foff.rotation.T if ffid is None else (data.oMf[ffid] * foff).rotation
                 diff = R_ref.T @ R_link
-                tol = o.tolerances * margin
-                if o.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
-                    v = rotation_vector(diff)
-                    clamped = np.clip(v, -tol, tol)
-                    if (clamped == v).all():  # within the shrunk tolerance (clip changed nothing)
-                        continue
-                    goal = R_ref @ pin.exp3(clamped)
-                else:
-                    a = euler_xyz(diff)
-                    clamped = np.clip(a, -tol, tol)
-                    if (clamped == a).all():
-                        continue
-                    goal = R_ref @ _euler_xyz_matrix(*clamped)
+                # on floats: numpy's calls cost more than the arithmetic on three components
+                tol = [t * margin for t in o._tol]
+                rotvec = o.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR
+                angles = rotation_vector(diff).tolist() if rotvec else list(_euler_xyz_list(diff.tolist()))
+                clamped = [_clip(x, -t, t) for x, t in zip(angles, tol)]
+                if clamped == angles:  # within the shrunk tolerance
+                    continue
+                goal = R_ref @ (pin.exp3(np.array(clamped)) if rotvec else _euler_xyz_matrix(*clamped))
                 J = pin.getFrameJacobian(pm, data, fid, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED)[:, indices]
                 rows.append(J[3:])
                 errs.append(R_link @ pin.log3(R_link.T @ goal))
@@ -686,8 +708,8 @@ class ConstraintEvaluator:
                 return None  # violated, but nothing this projection can move (e.g. joint limits)
             J = np.vstack(rows)
             e = np.concatenate(errs)
-            dx = J.T @ np.linalg.solve(J @ J.T + damping * np.eye(len(e)), e)
-            step = float(np.max(np.abs(dx)))
+            dx = J.T @ np.linalg.solve(J @ J.T + damping * _identity(len(e)), e)
+            step = float(np.abs(dx).max())
             if step > 0.5:  # keep Gauss-Newton steps local
                 dx *= 0.5 / step
             q[indices] = np.clip(q[indices] + dx, lower, upper)
