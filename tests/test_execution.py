@@ -304,3 +304,27 @@ def test_a_continuous_joint_a_turn_from_the_start_is_at_the_start():
         assert execute(again.solutions[0])
     finally:
         mtc.reset_current_scene()
+
+
+def test_execute_keeps_what_changed_in_the_scene_after_planning(panda_task):
+    """As MTC's executor, which applies each segment's scene diff to the live scene: an object
+    added to the current scene after planning, and another moved, stay as they are; the
+    solution's own change (attaching the box) and motion are made on top of them."""
+    psi = mtc.PlanningSceneInterface()
+    cup = msgs.CollisionObject(
+        id="cup", header=msgs.Header(frame_id="world"),
+        primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.CYLINDER, dimensions=[0.1, 0.03])],
+        primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
+        pose=msgs.Pose(position=msgs.Point(x=-0.5, y=0.5, z=0.05), orientation=msgs.Quaternion(w=1.0)),
+    )
+    psi.add_object(cup)
+    mtc.current_scene().allowed_collision_matrix.set_entry("cup", "panda_link0", True)
+    assert execute(panda_task.solutions[0])
+    scene = mtc.current_scene()
+    assert scene.world_object_names == ["cup"] and scene.attached_object_names == ["box"]
+    np.testing.assert_allclose(scene.get_frame_transform("cup")[:3, 3], [-0.5, 0.5, 0.05])
+    assert scene.allowed_collision_matrix.get_entry("cup", "panda_link0")
+    np.testing.assert_allclose(scene.current_state.get_joint_group_positions("panda_arm"),
+                               _extended(scene.robot_model), atol=1e-9)
+    # the task's stored scenes are untouched by the current scene's changes
+    assert "cup" not in panda_task.solutions[0].end.scene.world_object_names

@@ -100,6 +100,28 @@ def _start_deviation(scene, trajectory) -> tuple[str, float] | None:
     return trajectory.joint_names[k], float(dev[k])
 
 
+def _play(leaf: SubTrajectory) -> None:
+    """The current scene after one segment: the robot where the segment's trajectory ends, and
+    the segment's own scene changes (attaching, detaching, ACM edits) made in it, as MTC's
+    executor applies each segment's scene diff; objects added to the current scene after
+    planning stay. A current scene of another robot is replaced by the segment's end."""
+    from mtc.scene.current_scene import current_scene, set_current_scene
+
+    live, start, end = current_scene(), leaf.start.scene, leaf.end.scene
+    if live.robot_model is not end.robot_model:
+        set_current_scene(end.copy())  # (a copy: later edits must not reach the task's scenes)
+        return
+    live._apply_changes(start, end)
+    traj = leaf.trajectory
+    if traj is not None and len(traj) > 0:
+        q = live.current_state.positions.copy()
+        idx = traj.group.variable_indices
+        q[idx] = traj.waypoints[-1].positions[idx]
+        live.current_state.positions = q
+    elif start.current_state.positions.tobytes() != end.current_state.positions.tobytes():
+        live.current_state.positions = end.current_state.positions  # (a state change without motion)
+
+
 def execute(
     solution: SolutionBase,
     callback: Callable[[SubTrajectory, int, int], Any] | None = None,
@@ -132,7 +154,7 @@ def execute(
         TypeError: ``solution`` is not a solution or ``preempt``/``callback`` have wrong types.
         ValueError: ``solution`` is a failure, or a segment is not connected to states.
     """
-    from mtc.scene.current_scene import current_scene, set_current_scene
+    from mtc.scene.current_scene import current_scene
 
     if not isinstance(solution, SolutionBase):
         raise TypeError(f"execute() takes a solution (e.g. task.solutions[0]), not {type(solution).__name__}")
@@ -175,8 +197,7 @@ def execute(
             creator = leaf.creator.name if leaf.creator is not None else None
             log.error("execute: segment %d of %d (stage %r) failed in the callback", i, count, creator)
             return MoveItErrorCode(CONTROL_FAILED)
-        # a copy: later edits of the current scene must not change the task's stored scenes
-        set_current_scene(leaf.end.scene.copy())
+        _play(leaf)
     return MoveItErrorCode(MoveItErrorCode.SUCCESS)
 
 

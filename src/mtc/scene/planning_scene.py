@@ -808,6 +808,28 @@ class PlanningScene:
         return (self._world_token is other._world_token or not (self._world or other._world)) and (
             self._attached_token is other._attached_token or not (self._attached or other._attached))
 
+    def _apply_changes(self, start: PlanningScene, end: PlanningScene) -> None:
+        """Make in this scene the changes that lead from scene ``start`` to scene ``end``: world
+        and attached objects added, replaced or removed, and the ACM as a whole if it changed
+        (as MoveIt applies an executed segment's scene diff). Objects and ACM entries this scene
+        has of its own beyond those changes stay; the robot state is left alone."""
+        for name in start._world.keys() - end._world.keys():
+            if name in self._world:
+                del self._own_world()[name]
+        for name in start._attached.keys() - end._attached.keys():
+            if name in self._attached:
+                del self._own_attached()[name]
+        for name, obj in end._world.items():
+            if start._world.get(name) is not obj:
+                self._own_world()[name] = obj
+        for name, att in end._attached.items():
+            if start._attached.get(name) is not att:
+                self._own_attached()[name] = att
+                if name in self._world:  # (attaching takes it out of the world)
+                    del self._own_world()[name]
+        if start._acm.token is not end._acm.token:
+            self._acm = end._acm.copy()
+
     # copy-on-write helpers
     # (callers change the returned dict right away, so the token is renewed here)
     def _own_world(self) -> dict:
