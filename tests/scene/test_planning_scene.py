@@ -1008,3 +1008,29 @@ def test_attaching_shapes_of_an_attached_id_replaces_it(scene):
     att = scene.get_attached_object("obj")
     assert att.link == "panda_hand"
     np.testing.assert_allclose(att.object.shapes[0].dimensions, [0.01, 0.01, 0.01])
+
+
+def test_objects_attached_to_the_same_link_do_not_collide_with_each_other(scene):
+    """As MoveIt ("bodies attached to the same link should not collide"): a tool and the part it
+    holds, both attached to the hand and overlapping, leave the state collision-free; objects
+    on different links are still checked against each other."""
+    from mtc import msgs
+
+    def box(name, x):
+        return msgs.CollisionObject(
+            id=name, header=msgs.Header(frame_id="panda_hand"), operation=msgs.CollisionObject.ADD,
+            primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.04, 0.04, 0.04])],
+            primitive_poses=[msgs.Pose(position=msgs.Point(x=x, z=0.25), orientation=msgs.Quaternion(w=1.0))],
+        )
+
+    scene.current_state.set_to_default_values("panda_arm", "ready")
+    for name, x in (("tool", 0.0), ("part", 0.01)):
+        scene.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=box(name, x)))
+    assert not scene.is_state_colliding()
+    part = scene.get_attached_collision_object_msg("part")
+    scene.apply_attached_collision_object(msgs.AttachedCollisionObject(
+        link_name="panda_hand", object=msgs.CollisionObject(id="part", operation=msgs.CollisionObject.REMOVE)))
+    part.link_name = "panda_link7"
+    scene.apply_attached_collision_object(part)  # the same place, now held by another link
+    assert scene.is_state_colliding()
+    assert ("part", "tool") in {tuple(sorted(p)) for p in scene.get_collisions()}

@@ -340,6 +340,7 @@ class _CollisionEnv:
                 bodies.append(obj.id)
                 kinds.append("world")
         touch = {}
+        attached_to = {att.id: att.link for att in attached.values()}
         for att in attached.values():
             fid = model.frame_id(att.link)
             frame = pm.frames[fid]
@@ -361,6 +362,8 @@ class _CollisionEnv:
                 a, b = bodies[i], bodies[j]
                 if (a == b and kinds[i] == kinds[j]) or (kinds[i] == "world" and kinds[j] == "world"):
                     continue
+                if kinds[i] == kinds[j] == "attached" and attached_to[a] == attached_to[b]:
+                    continue  # as MoveIt: bodies attached to the same link do not collide
                 key = (a, kinds[i], b, kinds[j])
                 if key not in allowed_cache:
                     allowed = acm.get_entry(a, b)
