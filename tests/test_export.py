@@ -40,6 +40,14 @@ def _box_msg() -> msgs.CollisionObject:
     )
 
 
+def _move_to(name: str, group: str, goal: str) -> stages.MoveTo:
+    """A joint-interpolated MoveTo of ``group`` to the named state ``goal``."""
+    move = stages.MoveTo(name, core.JointInterpolationPlanner())
+    move.group = group
+    move.setGoal(goal)
+    return move
+
+
 @pytest.fixture(scope="module")
 def panda_task():
     """current -> attach box -> arm to 'extended' -> hand 'close' (planned once)."""
@@ -51,14 +59,8 @@ def panda_task():
     attach = stages.ModifyPlanningScene("attach box")
     attach.attachObject("box", "panda_hand")
     task.add(attach)
-    move = stages.MoveTo("extend", core.JointInterpolationPlanner())
-    move.group = "panda_arm"
-    move.setGoal("extended")
-    task.add(move)
-    close = stages.MoveTo("close hand", core.JointInterpolationPlanner())
-    close.group = "hand"
-    close.setGoal("close")
-    task.add(close)
+    task.add(_move_to("extend", "panda_arm", "extended"))
+    task.add(_move_to("close hand", "hand", "close"))
     assert task.plan()
     mtc.reset_current_scene()
     return task
@@ -340,10 +342,7 @@ def test_a_motion_already_at_its_goal_exports_for_a_controller():
     task = core.Task()
     task.loadRobotModel()
     task.add(stages.CurrentState("current"))
-    open_hand = stages.MoveTo("open hand", core.JointInterpolationPlanner())
-    open_hand.group = "hand"
-    open_hand.setGoal("open")
-    task.add(open_hand)
+    task.add(_move_to("open hand", "hand", "open"))
     up = stages.MoveRelative("up", core.CartesianPath())
     up.group = "panda_arm"
     up.setDirection(msgs.Vector3Stamped(header=msgs.Header(frame_id="world"), vector=msgs.Vector3(z=0.05)))
