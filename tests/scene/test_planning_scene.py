@@ -1034,3 +1034,33 @@ def test_objects_attached_to_the_same_link_do_not_collide_with_each_other(scene)
     scene.apply_attached_collision_object(part)  # the same place, now held by another link
     assert scene.is_state_colliding()
     assert ("part", "tool") in {tuple(sorted(p)) for p in scene.get_collisions()}
+
+
+def test_move_with_shape_poses(scene):
+    """MOVE with shape poses moves the shapes too (as MoveIt 2); a MoveIt 1 style MOVE (the new
+    place in primitive_poses, the pose unset) of a one-shape object puts it where it says, with
+    its frame, instead of at the header frame's origin; a wrong count of shape poses is refused
+    and changes nothing."""
+    from mtc import msgs
+
+    def box_msg(op, at=None, prims=1, pose=None):
+        return msgs.CollisionObject(
+            id="box", header=msgs.Header(frame_id="world"), operation=op,
+            primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.1] * 3)] * prims
+            if op == msgs.CollisionObject.ADD else [],
+            primitive_poses=[msgs.Pose(position=msgs.Point(*p), orientation=msgs.Quaternion(w=1.0)) for p in at or []],
+            pose=pose or msgs.Pose())
+
+    scene.apply_collision_object(box_msg(msgs.CollisionObject.ADD, [(1.0, 0.0, 0.5)]))
+    scene.apply_collision_object(box_msg(msgs.CollisionObject.MOVE, [(1.0, 0.5, 0.5)]))
+    np.testing.assert_allclose(scene.get_frame_transform("box")[:3, 3], [1.0, 0.5, 0.5])
+    # two shapes: the pose places the object, the shape poses the shapes within it
+    scene.apply_collision_object(box_msg(msgs.CollisionObject.ADD, [(0, 0, 0), (0, 0, 0.2)], prims=2,
+                                         pose=msgs.Pose(position=msgs.Point(0.5, 0, 0), orientation=msgs.Quaternion(w=1.0))))
+    scene.apply_collision_object(box_msg(msgs.CollisionObject.MOVE, [(0, 0, 0), (0, 0.3, 0)],
+                                         pose=msgs.Pose(position=msgs.Point(0.5, 0, 0.1), orientation=msgs.Quaternion(w=1.0))))
+    msg = scene.get_collision_object_msg("box")
+    assert [round(p.position.y, 9) for p in msg.primitive_poses] == [0.0, 0.3]
+    with pytest.raises(ValueError, match="1 shape poses for 2 shapes"):
+        scene.apply_collision_object(box_msg(msgs.CollisionObject.MOVE, [(0, 0, 0)]))
+    assert scene.get_collision_object_msg("box") == msg

@@ -974,7 +974,21 @@ class PlanningScene:
             self._own_world()[msg.id] = obj
         elif op == msgs.CollisionObject.MOVE:
             old = self.get_world_object(msg.id)
-            self._own_world()[msg.id] = old.moved(base @ msgs.pose_to_matrix(msg.pose))
+            shape_poses = [msgs.pose_to_matrix(p) for p in (*msg.primitive_poses, *msg.mesh_poses)]
+            if shape_poses and len(shape_poses) != len(old.shape_poses):
+                raise ValueError(
+                    f"object '{msg.id}': MOVE gives {len(shape_poses)} shape poses for {len(old.shape_poses)} "
+                    "shapes (as many as the object has, or none)"
+                )
+            if len(shape_poses) == 1 and _is_empty_pose(msg.pose):
+                # a MoveIt 1 style MOVE (the new place in primitive_poses, no pose): as for ADD, the
+                # one shape's pose places the object, its frames with it
+                moved = old.moved(base @ shape_poses[0] @ np.linalg.inv(old.shape_poses[0]))
+            else:
+                moved = old.moved(base @ msgs.pose_to_matrix(msg.pose))
+                if shape_poses:  # as MoveIt 2: shape poses given move the shapes within the object
+                    moved = replace(moved, shape_poses=tuple(shape_poses))
+            self._own_world()[msg.id] = moved
         elif op == msgs.CollisionObject.APPEND:
             extra = self._make_object(msg, base)
             old = self._world.get(msg.id)
