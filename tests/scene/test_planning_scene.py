@@ -1064,3 +1064,24 @@ def test_move_with_shape_poses(scene):
     with pytest.raises(ValueError, match="1 shape poses for 2 shapes"):
         scene.apply_collision_object(box_msg(msgs.CollisionObject.MOVE, [(0, 0, 0)]))
     assert scene.get_collision_object_msg("box") == msg
+
+
+def test_detaching_beside_a_world_object_of_the_same_id_keeps_the_world_one(scene, caplog):
+    """As MoveIt ("NOT adding the detached body ... to the collision world"): a world object and
+    an attached one may share an id; detaching drops the attached one, with a warning, and the
+    world object stays where it is."""
+    from mtc import msgs
+
+    def tool(frame, z):
+        return msgs.CollisionObject(
+            id="tool", header=msgs.Header(frame_id=frame), operation=msgs.CollisionObject.ADD,
+            primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.02] * 3)],
+            primitive_poses=[msgs.Pose(position=msgs.Point(z=z), orientation=msgs.Quaternion(w=1.0))])
+
+    scene.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=tool("panda_hand", 0.2)))
+    scene.apply_collision_object(tool("world", 2.0))
+    assert scene.world_object_names == ["tool"] and scene.attached_object_names == ["tool"]
+    with caplog.at_level("WARNING", logger="mtc"):
+        scene.detach_object("tool")
+    assert scene.attached_object_names == [] and "not added" in caplog.text
+    np.testing.assert_allclose(scene.get_frame_transform("tool")[:3, 3], [0.0, 0.0, 2.0])

@@ -1042,7 +1042,9 @@ class PlanningScene:
         return touch
 
     def detach_object(self, name: str) -> None:
-        """Detach ``name`` and leave it in the world where it is now.
+        """Detach ``name`` and leave it in the world where it is now (as MoveIt, not where a
+        world object of the same id is already: that one stays, and the detached one is dropped
+        with a warning).
 
         Raises:
             KeyError: the object is not attached.
@@ -1050,6 +1052,10 @@ class PlanningScene:
         att = self.get_attached_object(name)
         link_pose = self._state.get_global_link_transform(att.link)
         del self._own_attached()[name]
+        if name in self._world:
+            log.warning("detaching '%s': the world has an object of that id already; the detached one is "
+                        "not added to it", name)
+            return
         self._own_world()[name] = att.object.moved(link_pose @ att.object.pose)
 
     def apply_attached_collision_object(self, msg: msgs.AttachedCollisionObject) -> None:
