@@ -114,10 +114,7 @@ def _play(leaf: SubTrajectory) -> None:
     live._apply_changes(start, end)
     traj = leaf.trajectory
     if traj is not None and len(traj) > 0:
-        q = live.current_state.positions.copy()
-        idx = traj.group.variable_indices
-        q[idx] = traj.waypoints[-1].positions[idx]
-        live.current_state.positions = q
+        live.current_state.set_joint_group_positions(traj.group, traj.waypoints[-1].positions[traj.group.variable_indices])
     elif start.current_state.positions.tobytes() != end.current_state.positions.tobytes():
         live.current_state.positions = end.current_state.positions  # (a state change without motion)
 

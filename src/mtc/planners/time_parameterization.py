@@ -171,7 +171,8 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     """Times, velocities and accelerations for the path through the rows of ``Q``.
 
     Args:
-        Q: N x k waypoints (continuous joints already unwrapped).
+        Q: N x k waypoints (continuous joints already unwrapped; no row repeats the one before
+            it, see :data:`_REPEATED`).
         vmax, amax: k scaled limits.
         grid_points: minimum number of grid intervals.
         P: optional N x 3 positions of a link whose speed is limited to ``vcart``.
@@ -184,21 +185,13 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     A = np.zeros((N, k))
     if N < 2:
         return times, V, A
-    seg_len = np.sqrt((np.diff(Q, axis=0) ** 2).sum(axis=1))
-    moving = seg_len > _REPEATED
-    # waypoints repeated without motion share the time of their predecessor
-    keep = np.concatenate(([True], moving))
-    knot_of = np.cumsum(keep) - 1  # waypoint -> knot
-    Qk = Q[keep]
-    n = len(Qk)
-    if n < 2:
-        return times, V, A
-    s = np.concatenate(([0.0], np.cumsum(seg_len[moving])))
+    n = N  # (the knots are the waypoints)
+    s = np.concatenate(([0.0], np.cumsum(np.sqrt((np.diff(Q, axis=0) ** 2).sum(axis=1)))))
     L = s[-1]
-    Y = Qk if P is None else np.hstack((Qk, P[keep]))
+    Y = Q if P is None else np.hstack((Q, P))
     M = _monotone_slopes(s, Y)
     if PJ is not None:
-        M[:, k:] = np.einsum("nij,nj->ni", PJ[keep], M[:, :k])
+        M[:, k:] = np.einsum("nij,nj->ni", PJ, M[:, :k])
 
     # grid: each knot interval split into equal parts, about grid_points parts in total and at
     # least two per interval (the curvature of an interval next to a corner changes fast)
@@ -332,13 +325,7 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     tgrid = np.concatenate(([0.0], np.cumsum(dt)))
     vel = qp * sq[:, None]
     acc = qp * ua[:, None] + qpp * xa[:, None]
-    rows = knot_index[knot_of]
-    return tgrid[rows], vel[rows], acc[rows]
-
-
-def _unwrapped_positions(trajectory: RobotTrajectory) -> np.ndarray:
-    continuous = trajectory.robot_model.continuous_mask[trajectory.group.variable_indices]
-    return unwrap_path(trajectory.positions.astype(float), continuous)
+    return tgrid[knot_index], vel[knot_index], acc[knot_index]
 
 
 def _link_positions(trajectory: RobotTrajectory, frame: str) -> tuple[np.ndarray, np.ndarray]:
@@ -389,14 +376,13 @@ def time_parameterize(
     idx = trajectory.group.variable_indices
     vmax = model.velocity_limits[idx] * vs
     amax = model.acceleration_limits[idx] * acs
-    Q = _unwrapped_positions(trajectory)
-    if not np.array_equal(Q, trajectory.positions):
+    positions = trajectory.positions
+    Q = unwrap_path(positions.copy(), model.continuous_mask[idx])
+    if not np.array_equal(Q, positions):
         # as MoveIt's TOTG (which unwinds the trajectory first): the waypoints take the
         # continuous joints' values the timing is for, without jumps of a full turn
         for w, q in zip(trajectory.waypoints, Q):
-            full = w.positions.copy()
-            full[idx] = q
-            w.positions = full
+            w.set_joint_group_positions(trajectory.group, q)
     P = PJ = None
     if max_cartesian_speed > 0:
         if not cartesian_speed_limited_link:
