@@ -117,7 +117,7 @@ def pose_stamped_from_args(what: str, *args, default_frame: str | None = None) -
     if len(args) == 1:
         (value,) = args
         if isinstance(value, msgs.PoseStamped):
-            return msgs.from_dict(msgs.PoseStamped, msgs.to_dict(value))
+            return value  # (the property it is set into keeps a copy)
         if isinstance(value, str):
             return msgs.identity_pose_stamped(value)
         if default_frame is not None:

@@ -28,7 +28,7 @@ def _check_poses(value):
     for i, pose in enumerate(poses):
         if not isinstance(pose, msgs.PoseStamped):
             raise TypeError(f"poses[{i}] must be a msgs.PoseStamped, got {type(pose).__name__}")
-    return [copy_pose_stamped(pose) for pose in poses]
+    return poses  # (the property keeps a copy)
 
 
 class FixedCartesianPoses(MonitoringGenerator):
