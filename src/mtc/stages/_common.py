@@ -108,7 +108,8 @@ def pose_stamped_from_args(what: str, *args, default_frame: str | None = None) -
         default_frame: Frame used for ``(pose,)`` (``setTargetPose(pose, frame="")``).
 
     Returns:
-        A new ``msgs.PoseStamped`` (the caller's message is copied, never kept).
+        A ``msgs.PoseStamped`` (the caller's own, when given one: the property it is set into
+        keeps a copy).
 
     Raises:
         TypeError: Any other combination.
