@@ -760,13 +760,9 @@ def _marker_parts(model: RobotModel, marker: dict) -> tuple[str, list[tuple[dict
 
 def _frame_in(scene: PlanningScene | None, frame_id: str) -> np.ndarray | None:
     """Pose of ``frame_id`` in the planning frame (identity for it or ""); None if unknown."""
-    if not frame_id or scene is None and frame_id in ("world",):
-        return np.eye(4)
     if scene is None:
-        return None
-    if frame_id == scene.planning_frame:
-        return np.eye(4)
-    try:
+        return np.eye(4) if frame_id in ("", "world") else None
+    try:  # (the scene gives the planning frame and "" as identity)
         return scene.get_frame_transform(frame_id)
     except KeyError:
         return None
