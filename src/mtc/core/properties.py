@@ -206,7 +206,9 @@ def _coerce(value, declared):
 def _is_data(value) -> bool:
     """Whether ``value`` is plain data: messages, numbers, strings, arrays and containers of
     them (no stages, planners, scenes or callables, which are shared as MTC shares pointers)."""
-    if value is None or isinstance(value, (msgs._Message, str, bytes, numbers.Number, np.ndarray)):
+    if isinstance(value, np.ndarray):
+        return value.dtype != object  # (an array of objects holds them as a list does)
+    if value is None or isinstance(value, (msgs._Message, str, bytes, numbers.Number)):
         return True
     if isinstance(value, (list, tuple, set, frozenset)):
         return all(_is_data(v) for v in value)
