@@ -11,6 +11,7 @@ from scene_helpers import (
     cube_mesh,
     obj,
     pose,
+    primitive,
     snapshot,
     sphere,
     translation,
@@ -397,10 +398,17 @@ def test_remove_one_and_remove_all(scene):
 
 
 def test_append_adds_shapes_to_an_object(scene):
-    """APPEND adds shapes (and subframes) to an existing object, keeping its pose; to a new id it adds one."""
-    scene.apply_collision_object(box("b", (0.307, 0.3, 0.56), (0.04, 0.04, 0.04)))
+    """APPEND adds shapes to an existing object at their shape poses relative to the object's
+    own pose (as MoveIt's World::addToObject: the message's pose and header place only a new
+    object); the message's subframes replace the object's. To a new id it adds one."""
+    first = box("b", (0.307, 0.3, 0.56), (0.04, 0.04, 0.04))
+    first.subframe_names, first.subframe_poses = ["old"], [pose((0.0, 0.0, 0.1))]
+    scene.apply_collision_object(first)
     assert not scene.is_state_colliding()
-    extra = box("b", (0.307, 0.0, 0.56), (0.04, 0.04, 0.04))
+    # the message's pose (far away, in another frame) is not used: the shape goes 0.3 m along -y
+    # of the object, i.e. to (0.307, 0.0, 0.56), around the hand
+    extra = box("b", (5.0, 5.0, 5.0), (0.04, 0.04, 0.04), frame="panda_link3")
+    extra.primitive_poses = [pose((0.0, -0.3, 0.0))]
     extra.operation = CollisionObject.APPEND
     extra.subframe_names, extra.subframe_poses = ["top"], [pose((0.0, 0.0, 0.02))]
     scene.apply_collision_object(extra)
@@ -408,12 +416,21 @@ def test_append_adds_shapes_to_an_object(scene):
     assert len(wo.shapes) == 2
     np.testing.assert_allclose(translation(wo.pose), [0.307, 0.3, 0.56])
     np.testing.assert_allclose(translation(wo.pose @ wo.shape_poses[1]), [0.307, 0.0, 0.56], atol=1e-12)
-    np.testing.assert_allclose(translation(scene.get_frame_transform("b/top")), [0.307, 0.0, 0.58], atol=1e-12)
+    np.testing.assert_allclose(translation(scene.get_frame_transform("b/top")), [0.307, 0.3, 0.58], atol=1e-12)
+    assert not scene.knows_frame_transform("b/old")
     assert scene.get_collisions()[0][1] == "b"
+    # one shape and no object pose: the shape's pose is the (ignored) object pose, so the shape
+    # lands on the object's origin
+    single = CollisionObject(id="b", primitives=[primitive(SolidPrimitive.SPHERE, [0.01])],
+                             primitive_poses=[pose((1.0, 1.0, 1.0))], operation=CollisionObject.APPEND)
+    scene.apply_collision_object(single)
+    wo = scene.get_world_object("b")
+    np.testing.assert_allclose(translation(wo.pose @ wo.shape_poses[2]), [0.307, 0.3, 0.56], atol=1e-12)
     new = box("c", (2.0, 0.0, 0.0))
     new.operation = CollisionObject.APPEND
     scene.apply_collision_object(new)
     assert scene.world_object_names == ["b", "c"]
+    np.testing.assert_allclose(translation(scene.get_world_object("c").pose), [2.0, 0.0, 0.0])
 
 
 def test_header_frame_of_a_link(scene):
@@ -609,6 +626,51 @@ def test_attached_collision_object_messages(scene):
     assert scene.attached_object_names == ["b"] and "tool" in scene.world_object_names
     scene.apply_attached_collision_object(msgs.AttachedCollisionObject(object=CollisionObject(operation=CollisionObject.REMOVE)))
     assert scene.attached_object_names == []
+
+
+def test_attached_collision_object_append(scene):
+    """AttachedCollisionObject APPEND (as MoveIt's processAttachedCollisionObjectMsg): shapes go
+    to the attached object, relative to its pose when the message has none; subframes and touch
+    links are merged (a new subframe wins), the detach posture kept; with no object of that id
+    attached it attaches a new one, removing a world object of that id."""
+    o = box("tool", (0.0, 0.0, 0.05), (0.02, 0.02, 0.02), frame="panda_hand_tcp")
+    o.subframe_names, o.subframe_poses = ["tip", "side"], [pose((0.0, 0.0, 0.01)), pose((0.01, 0.0, 0.0))]
+    posture = msgs.JointTrajectory(joint_names=["panda_finger_joint1"])
+    scene.apply_attached_collision_object(
+        msgs.AttachedCollisionObject(link_name="panda_hand", object=o, touch_links=["panda_leftfinger"], detach_posture=posture)
+    )
+    before = scene.get_frame_transform("tool")
+    extra = CollisionObject(
+        id="tool", header=msgs.Header(frame_id="panda_hand"), operation=CollisionObject.APPEND,
+        primitives=[primitive(SolidPrimitive.SPHERE, [0.01]), primitive(SolidPrimitive.BOX, [0.01, 0.01, 0.01])],
+        primitive_poses=[pose((0.0, 0.0, 0.1)), pose((0.0, 0.02, 0.0))],
+        subframe_names=["tip"], subframe_poses=[pose((0.0, 0.0, 0.2))],
+    )
+    scene.apply_attached_collision_object(
+        msgs.AttachedCollisionObject(link_name="panda_hand", object=extra, touch_links=["panda_rightfinger"])
+    )
+    att = scene.get_attached_object("tool")
+    assert [s.type for s in att.object.shapes] == [SolidPrimitive.SPHERE, SolidPrimitive.BOX, SolidPrimitive.BOX]
+    np.testing.assert_allclose(scene.get_frame_transform("tool"), before, atol=1e-12)  # pose kept
+    np.testing.assert_allclose(translation(att.object.shape_poses[0]), [0.0, 0.0, 0.1])
+    np.testing.assert_allclose(translation(att.object.shape_poses[2]), [0.0, 0.0, 0.0])
+    np.testing.assert_allclose(translation(np.linalg.solve(before, scene.get_frame_transform("tool/tip"))), [0.0, 0.0, 0.2], atol=1e-12)
+    np.testing.assert_allclose(translation(np.linalg.solve(before, scene.get_frame_transform("tool/side"))), [0.01, 0.0, 0.0], atol=1e-12)
+    assert att.touch_links == {"panda_leftfinger", "panda_rightfinger"} and att.detach_posture is posture
+    # a message pose places the merged object: the old shapes move with it
+    moved = CollisionObject(id="tool", header=msgs.Header(frame_id="panda_hand"), operation=CollisionObject.APPEND,
+                            pose=pose((0.0, 0.0, 0.3)), primitives=[primitive(SolidPrimitive.SPHERE, [0.01])])
+    scene.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=moved))
+    hand = scene.current_state.get_global_link_transform("panda_hand")
+    np.testing.assert_allclose(scene.get_frame_transform("tool"), hand @ msgs.pose_to_matrix(pose((0.0, 0.0, 0.3))), atol=1e-12)
+    assert len(scene.get_attached_object("tool").object.shapes) == 4
+    # no attached object of that id: APPEND attaches one, and a world object of that id goes
+    scene.apply_collision_object(box("cup", (1.0, 0.0, 0.0)))
+    new = box("cup", (0.0, 0.0, 0.05), frame="panda_hand")
+    new.operation = CollisionObject.APPEND
+    scene.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=new))
+    assert "cup" in scene.attached_object_names and "cup" not in scene.world_object_names
+    np.testing.assert_allclose(translation(scene.get_frame_transform("cup")), translation(hand @ msgs.pose_to_matrix(pose((0.0, 0.0, 0.05)))), atol=1e-12)
 
 
 def test_scene_messages_round_trip(scene):
@@ -814,6 +876,12 @@ BAD_INPUT = {
             msgs.AttachedCollisionObject(link_name="panda_hand", object=CollisionObject(id="far", operation=CollisionObject.MOVE))
         ),
         ValueError, ["ADD", "REMOVE"],
+    ),
+    "attach-msg-append-no-shapes": (
+        lambda s: s.apply_attached_collision_object(
+            msgs.AttachedCollisionObject(link_name="panda_hand", object=CollisionObject(id="obj", operation=CollisionObject.APPEND))
+        ),
+        ValueError, ["'obj'", "APPEND", "primitive or mesh"],
     ),
     "detach-msg-unknown": (
         lambda s: s.apply_attached_collision_object(msgs.AttachedCollisionObject(object=CollisionObject(id="ghost", operation=CollisionObject.REMOVE))),

@@ -995,13 +995,15 @@ class PlanningScene:
             if old is None:
                 self._own_world()[msg.id] = extra
             else:
-                rel = np.linalg.solve(old.pose, extra.pose)
+                # as MoveIt: the object keeps its pose (the message's pose and header place only
+                # a new object), the new shapes go at their shape poses relative to it, and the
+                # message's subframes replace the object's
                 obj = replace(
                     old,
                     shapes=old.shapes + extra.shapes,
-                    shape_poses=old.shape_poses + tuple(rel @ p for p in extra.shape_poses),
+                    shape_poses=old.shape_poses + extra.shape_poses,
                     geometries=old.geometries + extra.geometries,
-                    subframe_poses={**old.subframe_poses, **{k: rel @ v for k, v in extra.subframe_poses.items()}},
+                    subframe_poses=extra.subframe_poses,
                 )
                 self._own_world()[msg.id] = obj
         else:
@@ -1060,7 +1062,8 @@ class PlanningScene:
 
     def apply_attached_collision_object(self, msg: msgs.AttachedCollisionObject) -> None:
         """Attach (object.operation ADD: a new object given with shapes, or an existing world
-        object given by id alone) or detach (REMOVE) as MoveIt does."""
+        object given by id alone), add shapes to an attached object (APPEND; attaches a new one
+        if none of that id is attached) or detach (REMOVE) as MoveIt does."""
         if not isinstance(msg, msgs.AttachedCollisionObject):
             raise TypeError(f"expected msgs.AttachedCollisionObject, not {type(msg).__name__}")
         obj = msg.object
@@ -1075,23 +1078,50 @@ class PlanningScene:
                     if not msg.link_name or att.link == msg.link_name:
                         self.detach_object(name)
             return
-        if obj.operation != msgs.CollisionObject.ADD:
-            raise ValueError("attached objects support ADD (attach) and REMOVE (detach)")
+        append = obj.operation == msgs.CollisionObject.APPEND
+        if obj.operation != msgs.CollisionObject.ADD and not append:
+            raise ValueError(
+                f"attached object '{obj.id}': unknown operation {obj.operation} "
+                "(ADD=0 attaches, REMOVE=1 detaches, APPEND=2 adds shapes)"
+            )
         _check_name(obj.id)
         self._model.frame_id(msg.link_name)
         touch = self._touch_links(msg.touch_links)
-        if obj.primitives or obj.meshes:
-            # (as MoveIt, an object of that id already attached is replaced)
-            frame = obj.header.frame_id or msg.link_name
-            base = self._frame_of_header(frame, f"object '{obj.id}'")
-            world_obj = self._make_object(obj, base)
-            link_pose = self._state.get_global_link_transform(msg.link_name)
-            attached = AttachedObject(world_obj.moved(np.linalg.solve(link_pose, world_obj.pose)), msg.link_name, touch)
-            if obj.id in self._world:
-                del self._own_world()[obj.id]
-            self._own_attached()[obj.id] = attached
-        else:
-            self.attach_object(obj.id, msg.link_name, touch)
+        posture = msg.detach_posture if msg.detach_posture.joint_names else None
+        if not (obj.primitives or obj.meshes):
+            if append:
+                raise ValueError(f"attached object '{obj.id}': APPEND needs at least one primitive or mesh")
+            self.attach_object(obj.id, msg.link_name, touch, posture)
+            return
+        frame = obj.header.frame_id or msg.link_name
+        base = self._frame_of_header(frame, f"object '{obj.id}'")
+        world_obj = self._make_object(obj, base)
+        link_pose = self._state.get_global_link_transform(msg.link_name)
+        attached = AttachedObject(world_obj.moved(np.linalg.solve(link_pose, world_obj.pose)), msg.link_name, touch, posture)
+        old = self._attached.get(obj.id) if append else None
+        if old is not None:
+            # as MoveIt: the new shapes first, then the old ones at their shape poses, all
+            # relative to the message's pose if it has one, else to the object's; the old
+            # subframes and touch links kept beside the new (a new subframe of the same name
+            # wins), the old detach posture unless the message gives one
+            new, prev = attached.object, old.object
+            pose = prev.pose if _is_empty_pose(obj.pose) else new.pose
+            merged = replace(
+                new,
+                pose=pose,
+                shapes=new.shapes + prev.shapes,
+                shape_poses=new.shape_poses + prev.shape_poses,
+                geometries=new.geometries + prev.geometries,
+                subframe_poses={**prev.subframe_poses, **new.subframe_poses},
+            )
+            attached = AttachedObject(merged, msg.link_name, touch | old.touch_links, posture or old.detach_posture)
+        # (as MoveIt, an object of that id already attached is replaced (ADD) and a world object
+        # of that id is removed)
+        if obj.id in self._world:
+            if append:
+                log.warning("appending to attached object '%s': the world object of that id is removed", obj.id)
+            del self._own_world()[obj.id]
+        self._own_attached()[obj.id] = attached
 
     # ------------------------------------------------------------------ frames
     def _attached_frame(self, frame: str):
