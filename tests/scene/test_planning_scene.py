@@ -466,6 +466,32 @@ def test_subframes_of_world_objects(scene):
     assert not scene.knows_frame_transform("tool/nose")
 
 
+def test_object_ids_with_slashes_are_frames(scene):
+    """As MoveIt, a frame is looked up as a whole object id first, then as "id/subframe" (so ids
+    may contain "/"); links come before objects; a leading "/" is dropped."""
+    shelf = box("shelf/board", (0.5, 0.2, 0.3))
+    shelf.subframe_names, shelf.subframe_poses = ["edge"], [pose((0.1, 0.0, 0.0))]
+    scene.apply_collision_object(shelf)
+    np.testing.assert_allclose(translation(scene.get_frame_transform("shelf/board")), [0.5, 0.2, 0.3])
+    np.testing.assert_allclose(translation(scene.get_frame_transform("shelf/board/edge")), [0.6, 0.2, 0.3], atol=1e-12)
+    np.testing.assert_allclose(translation(scene.get_frame_transform("/shelf/board")), [0.5, 0.2, 0.3])
+    assert not scene.knows_frame_transform("shelf") and not scene.knows_frame_transform("shelf/board/nose")
+    tool = box("tool/a", (0.0, 0.0, 0.05), frame="panda_hand")
+    tool.subframe_names, tool.subframe_poses = ["tip"], [pose((0.0, 0.0, 0.02))]
+    scene.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=tool))
+    hand = scene.current_state.get_global_link_transform("panda_hand")
+    np.testing.assert_allclose(translation(scene.get_frame_transform("tool/a/tip")), translation(hand @ msgs.pose_to_matrix(pose((0.0, 0.0, 0.07)))), atol=1e-12)
+    np.testing.assert_allclose(scene.current_state.get_frame_transform("tool/a"), scene.get_frame_transform("tool/a"))
+    # the ik frame and path constraints find it too
+    from mtc.scene.frames import resolve_frame
+
+    link, offset = resolve_frame(scene, "tool/a/tip")
+    np.testing.assert_allclose(scene.current_state.get_global_link_transform(link) @ offset, scene.get_frame_transform("tool/a/tip"), atol=1e-12)
+    # an object named as a link does not hide the link
+    scene.apply_collision_object(box("panda_link3", (2.0, 0.0, 0.0)))
+    np.testing.assert_allclose(scene.get_frame_transform("panda_link3"), scene.current_state.get_global_link_transform("panda_link3"))
+
+
 def test_frame_transforms(scene):
     """Frames: the planning frame (and "") are identity; links; objects; unknown ones raise naming what exists."""
     np.testing.assert_array_equal(scene.get_frame_transform("world"), np.eye(4))

@@ -40,6 +40,7 @@ import pinocchio as pin
 
 from mtc import msgs
 from mtc.scene.robot_model import RobotModel, wrap_angle
+from mtc.scene.planning_scene import object_frame
 from mtc.scene.robot_state import RobotState
 
 __all__ = [
@@ -251,8 +252,9 @@ class _FrameResolver:
                 f"{what}: frame '{frame}' is not a link of robot '{model.name}'; objects need a planning "
                 f"scene (links: {', '.join(model.link_model_names)})"
             )
-        name, _, sub = frame.partition("/")
-        if name in scene.attached_object_names:
+        split = object_frame(frame, scene.attached_object_names)
+        if split is not None:
+            name, sub = split
             att = scene.get_attached_object(name)
             offset = att.object.pose
             if sub:

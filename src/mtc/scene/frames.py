@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtc import msgs
+from mtc.scene.planning_scene import object_frame
 
 __all__ = [
     "FrameError",
@@ -98,8 +99,9 @@ def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
     model = scene.robot_model
     if not frame or frame == scene.planning_frame:
         raise NotALinkFrameError(frame)
-    name, _, sub = frame.partition("/")
-    if name in scene.attached_object_names:
+    split = object_frame(frame, scene.attached_object_names)
+    if split is not None and frame not in model.link_model_names:
+        name, sub = split
         attached = scene.get_attached_object(name)
         if sub and sub not in attached.object.subframe_poses:
             raise UnknownFrameError(frame)

@@ -86,6 +86,20 @@ def _is_empty_pose(pose: msgs.Pose) -> bool:
     return p.x == p.y == p.z == 0.0 and q.x == q.y == q.z == q.w == 0.0
 
 
+def object_frame(frame: str, objects) -> tuple[str, str] | None:
+    """``(object id, subframe)`` of a frame that names one of ``objects`` (ids) or a subframe of
+    one (``"id/subframe"``; subframe ``""`` for the object itself), else None. As MoveIt, the
+    whole name is tried as an id first: ids may contain "/" (the longest id before a "/"
+    wins)."""
+    if frame in objects:
+        return frame, ""
+    k = len(frame)
+    while (k := frame.rfind("/", 0, k)) > 0:
+        if frame[:k] in objects:
+            return frame[:k], frame[k + 1 :]
+    return None
+
+
 def _check_name(name, what="object id") -> str:
     if not isinstance(name, str) or not name:
         raise ValueError(f"{what} must be a non-empty string, got {name!r}")
@@ -1126,10 +1140,11 @@ class PlanningScene:
     # ------------------------------------------------------------------ frames
     def _attached_frame(self, frame: str):
         """(link, offset) of an attached object or its subframe, else None."""
-        name, _, sub = frame.partition("/")
-        att = self._attached.get(name)
-        if att is None:
+        split = object_frame(frame, self._attached)
+        if split is None:
             return None
+        name, sub = split
+        att = self._attached[name]
         if not sub:
             return att.link, att.object.pose
         offset = att.object.subframe_poses.get(sub)
@@ -1142,20 +1157,22 @@ class PlanningScene:
         Raises:
             KeyError: unknown frame, naming the links and objects that exist.
         """
+        frame = frame[1:] if frame.startswith("/") else frame  # (as MoveIt: a leading "/" is dropped)
         if frame == self.planning_frame or frame == "":
             return np.eye(4)
+        # as MoveIt: links first, then attached objects, then world objects
+        if frame in self._model._frame_ids:
+            return self._state.get_global_link_transform(frame)
         entry = self._attached_frame(frame)
         if entry is not None:
             return self._state.get_global_link_transform(entry[0]) @ entry[1]
-        name, _, sub = frame.partition("/")
-        obj = self._world.get(name)
-        if obj is not None:
+        split = object_frame(frame, self._world)
+        if split is not None:
+            obj, sub = self._world[split[0]], split[1]
             if not sub:
                 return obj.pose.copy()
             if sub in obj.subframe_poses:
                 return obj.pose @ obj.subframe_poses[sub]
-        if frame in self._model._frame_ids:
-            return self._state.get_global_link_transform(frame)
         objects = [*self._world, *self._attached]
         raise KeyError(
             f"unknown frame '{frame}' (links: {', '.join(self._model.link_model_names)}; "
