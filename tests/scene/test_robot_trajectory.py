@@ -296,3 +296,73 @@ def test_efforts_stay_with_their_waypoints(panda, start):
     assert np.isnan(plain.efforts[-1]).all()
     traj.clear()
     assert traj.efforts is None
+
+
+def test_unwind_makes_continuous_joints_continuous(toy):
+    """unwind() (moveit_py) takes each step of a continuous joint the short way round: 3.0 to
+    -3.0 becomes 3.0 to 2pi - 3.0, and later waypoints keep the offset; the first stays."""
+    reference = RobotState(toy)
+    reference.set_to_default_values()
+    positions = np.zeros((3, toy.get_joint_model_group("group").variable_count))
+    positions[:, 0] = [3.0, -3.0, -2.5]
+    traj = RobotTrajectory.from_positions(toy, "group", reference, positions)
+    traj.unwind()
+    two_pi = 2 * np.pi
+    np.testing.assert_allclose(traj.positions[:, 0], [3.0, two_pi - 3.0, two_pi - 2.5], atol=1e-12)
+    np.testing.assert_allclose(traj.positions[:, 1:], 0.0)
+
+
+def test_moveit_py_timing_members(panda, start):
+    """average_segment_duration is the duration over the waypoint count (MoveIt's);
+    apply_totg_time_parameterization times the trajectory within the scaled limits and
+    returns True, and rejects bad arguments before changing anything."""
+    traj = sweep(panda, start, n=4, dt=0.5)
+    assert traj.average_segment_duration == pytest.approx(1.5 / 4)
+    assert RobotTrajectory(panda, "panda_arm").average_segment_duration == 0.0
+    with pytest.raises(ValueError, match="resample_dt"):
+        traj.apply_totg_time_parameterization(1.0, 1.0, resample_dt=-1.0)
+    with pytest.raises(ValueError, match="velocity_scaling_factor"):
+        traj.apply_totg_time_parameterization(1.5, 1.0)
+    assert traj.get_waypoint_durations() == [0.0, 0.5, 0.5, 0.5]
+    assert traj.apply_totg_time_parameterization(0.5, 0.5) is True
+    vmax = panda.velocity_limits[traj.group.variable_indices] * 0.5
+    assert np.all(np.abs(traj.velocities) <= vmax + 1e-9)
+    assert traj.velocities[0].tolist() == [0.0] * 7 and traj.duration > 0
+
+
+def test_set_robot_trajectory_msg_round_trip(panda, start):
+    """set_robot_trajectory_msg (moveit_py) reads back what get_robot_trajectory_msg wrote:
+    positions, times, velocities and accelerations; other joints come from the reference
+    state; bad input changes nothing."""
+    traj = sweep(panda, start, n=4, dt=0.5)
+    traj.apply_totg_time_parameterization(1.0, 1.0)
+    msg = traj.get_robot_trajectory_msg()
+    other = RobotTrajectory(panda, "panda_arm")
+    reference = start.copy()
+    reference.joint_positions = {"panda_finger_joint1": 0.01}
+    other.set_robot_trajectory_msg(reference, msg)
+    np.testing.assert_allclose(other.positions, traj.positions)
+    np.testing.assert_allclose(other.times, traj.times)
+    np.testing.assert_allclose(other.velocities, traj.velocities)
+    np.testing.assert_allclose(other.accelerations, traj.accelerations)
+    assert other[2].joint_positions["panda_finger_joint1"] == 0.01
+    # only some of the group's joints named: positions set, no velocities
+    part = msgs.RobotTrajectory(joint_trajectory=msgs.JointTrajectory(
+        joint_names=["panda_joint2"],
+        points=[msgs.JointTrajectoryPoint(positions=[0.1], velocities=[0.0], time_from_start=0.0),
+                msgs.JointTrajectoryPoint(positions=[0.2], velocities=[0.0], time_from_start=1.0)]))
+    other.set_robot_trajectory_msg(start, part)
+    assert len(other) == 2 and other.velocities is None and other.duration == 1.0
+    assert other[1].joint_positions["panda_joint2"] == 0.2
+    before = other.positions
+    bad = msgs.RobotTrajectory(joint_trajectory=msgs.JointTrajectory(
+        joint_names=["panda_jointX"], points=[msgs.JointTrajectoryPoint(positions=[0.1])]))
+    with pytest.raises(KeyError, match="panda_jointX"):
+        other.set_robot_trajectory_msg(start, bad)
+    backwards = msgs.RobotTrajectory(joint_trajectory=msgs.JointTrajectory(
+        joint_names=["panda_joint2"],
+        points=[msgs.JointTrajectoryPoint(positions=[0.1], time_from_start=1.0),
+                msgs.JointTrajectoryPoint(positions=[0.2], time_from_start=0.5)]))
+    with pytest.raises(ValueError, match="time_from_start"):
+        other.set_robot_trajectory_msg(start, backwards)
+    np.testing.assert_array_equal(other.positions, before)

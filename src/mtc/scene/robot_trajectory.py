@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from mtc import msgs
-from mtc.scene.robot_model import JointModelGroup, RobotModel
+from mtc.scene.robot_model import JointModelGroup, RobotModel, unwrap_path
 from mtc.scene.robot_state import RobotState
 
 __all__ = ["RobotTrajectory"]
@@ -125,6 +125,50 @@ class RobotTrajectory:
 
     def get_waypoint_durations(self) -> list[float]:
         return list(self._durations)
+
+    @property
+    def average_segment_duration(self) -> float:
+        """The duration over the number of waypoints (0 for none), as MoveIt's
+        ``getAverageSegmentDuration``."""
+        return self.duration / len(self._durations) if self._durations else 0.0
+
+    def unwind(self) -> None:
+        """Make the group's continuous joints continuous along the trajectory in place: each
+        step between waypoints goes the short way round, with no jump of a full turn (the
+        first waypoint keeps its values), as MoveIt's ``unwind()``."""
+        continuous = self._model.continuous_mask[self._group.variable_indices]
+        if len(self.waypoints) < 2 or not continuous.any():
+            return
+        positions = self.positions
+        unwound = unwrap_path(positions.copy(), continuous)
+        for state, q, old in zip(self.waypoints, unwound, positions):
+            if not np.array_equal(q, old):
+                state.set_joint_group_positions(self._group, q)
+
+    def apply_totg_time_parameterization(
+        self,
+        velocity_scaling_factor: float,
+        acceleration_scaling_factor: float,
+        path_tolerance: float = 0.1,
+        resample_dt: float = 0.1,
+        min_angle_change: float = 0.001,
+    ) -> bool:
+        """Time the trajectory in place, time-optimally under the group's scaled velocity and
+        acceleration limits (moveit_py's call; mtc's time parameterization, which keeps the
+        waypoints: ``path_tolerance``, ``resample_dt`` and ``min_angle_change`` are checked and
+        not otherwise used, see docs/porting.md). Returns True.
+
+        Raises:
+            ValueError: a scaling factor outside (0, 1] or a negative tolerance or step.
+        """
+        from mtc.planners.time_parameterization import time_parameterize
+
+        for name, value in (("path_tolerance", path_tolerance), ("resample_dt", resample_dt),
+                            ("min_angle_change", min_angle_change)):
+            if not value >= 0.0:
+                raise ValueError(f"{name} must not be negative, got {value}")
+        time_parameterize(self, velocity_scaling_factor, acceleration_scaling_factor)
+        return True
 
     @property
     def first_waypoint(self) -> RobotState:
@@ -265,6 +309,50 @@ class RobotTrajectory:
                 header=msgs.Header(frame_id=self._model.model_frame), joint_names=names, points=points
             )
         )
+
+    def set_robot_trajectory_msg(self, robot_state: RobotState, msg: msgs.RobotTrajectory) -> None:
+        """Replace the waypoints with the points of ``msg`` (a ``msgs.RobotTrajectory``; its
+        joint trajectory), each ``robot_state`` with the named joints set, at the points'
+        ``time_from_start`` (moveit_py's ``set_robot_trajectory_msg``). Velocities and
+        accelerations are kept where every point gives them for all of the group's joints.
+
+        Raises:
+            TypeError: ``robot_state`` or ``msg`` of the wrong type.
+            KeyError: an unknown joint name.
+            ValueError: a point without one position per joint, or times that decrease.
+        """
+        if not isinstance(robot_state, RobotState):
+            raise TypeError(f"robot_state must be a RobotState, not {type(robot_state).__name__}")
+        if not isinstance(msg, msgs.RobotTrajectory):
+            raise TypeError(f"msg must be a msgs.RobotTrajectory, not {type(msg).__name__}")
+        jt = msg.joint_trajectory
+        names = list(jt.joint_names)
+        cols = [self._model.variable_index(n) for n in names]
+        points = jt.points
+        P = np.zeros((len(points), len(names)))
+        for i, point in enumerate(points):
+            if len(point.positions) != len(names):
+                raise ValueError(f"point {i} has {len(point.positions)} positions for {len(names)} joints")
+            P[i] = point.positions
+        times = np.array([float(p.time_from_start) for p in points])
+        if np.any(np.diff(times, prepend=0.0) < 0):
+            raise ValueError("the points' time_from_start must not decrease (nor be negative)")
+        full = np.repeat(robot_state.positions[None, :], len(points), axis=0)
+        full[:, cols] = P
+        self._model.enforce_mimic(full)
+        group_cols = [names.index(n) if n in names else -1 for n in self.joint_names]
+
+        def derivative(field: str) -> np.ndarray | None:
+            rows = [getattr(p, field) for p in points]
+            if not rows or -1 in group_cols or any(len(r) != len(names) for r in rows):
+                return None
+            return np.asarray(rows, dtype=float)[:, group_cols]
+
+        self.waypoints = [robot_state._with_positions(q, follow=False) for q in full]
+        self._durations = np.diff(times, prepend=0.0).tolist()
+        self.velocities = derivative("velocities")
+        self.accelerations = derivative("accelerations")
+        self._efforts = [None] * len(points)
 
     def __repr__(self) -> str:
         return (
