@@ -308,7 +308,18 @@ def test_circ_input_errors(ready_scene):
     T1[:3, 3] += [0.0, 0.2, 0.0]
     planner = _pilz("CIRC")
     result, _ = planner.plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
-    assert result.message.startswith("INVALID_GOAL_CONSTRAINTS: CIRC needs path_constraints named 'interim' or 'center'")
+    assert result.message.startswith("INVALID_MOTION_PLAN: CIRC needs path_constraints named 'interim' or 'center'")
+    assert result.message.endswith("(path_constraints name: none)")
+    # as Pilz: exactly one position constraint with one primitive pose
+    two = _circ_constraints("interim", T0[:3, 3] + [0.0, 0.1, 0.1])
+    two.position_constraints.append(two.position_constraints[0])
+    result, _ = planner.plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, two)
+    assert result.message == "INVALID_MOTION_PLAN: CIRC interim point: needs exactly one position constraint, got 2"
+    poses = _circ_constraints("interim", T0[:3, 3] + [0.0, 0.1, 0.1])
+    region = poses.position_constraints[0].constraint_region
+    region.primitive_poses.append(region.primitive_poses[0])
+    result, _ = planner.plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, poses)
+    assert result.message.startswith("INVALID_MOTION_PLAN: CIRC interim point: the position constraint needs exactly one primitive pose, got 2")
     off_center = T0[:3, 3] + [0.0, 0.05, 0.0]  # 5 cm from the start, 15 cm from the goal (Pilz allows 1 cm)
     result, _ = planner.plan_to_pose(
         ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("center", off_center)
@@ -318,11 +329,11 @@ def test_circ_input_errors(ready_scene):
     result, _ = planner.plan_to_pose(
         ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("interim", colinear)
     )
-    assert result.message == "PLANNING_FAILED: CIRC: start, interim and goal points are colinear, the circle is undefined"
+    assert result.message == "INVALID_MOTION_PLAN: CIRC: start, interim and goal points are colinear, the circle is undefined"
     result, _ = planner.plan_to_pose(
         ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("center", colinear)
     )
-    assert result.message == "PLANNING_FAILED: CIRC: start, goal and center are colinear, the circle's plane is undefined"
+    assert result.message == "INVALID_MOTION_PLAN: CIRC: start, goal and center are colinear, the circle's plane is undefined"
 
 
 def test_circ_point_in_a_link_frame(ready_scene):

@@ -345,15 +345,23 @@ class PilzPipeline:
     def _arc(self, scene, path_constraints, p0, p1):
         """The CIRC circle: (centre, axis, radius, angle) of the arc from p0 to p1."""
         pc = path_constraints
-        if pc is None or pc.name not in ("interim", "center") or not pc.position_constraints:
+        # (Pilz's request checks of CIRC: each fails with INVALID_MOTION_PLAN)
+        if pc is None or pc.name not in ("interim", "center"):
+            found = "none" if pc is None else f"'{pc.name}'"
             raise _Failure(error_message(
-                "INVALID_GOAL_CONSTRAINTS",
-                "CIRC needs path_constraints named 'interim' or 'center' with a position constraint giving the point",
+                "INVALID_MOTION_PLAN",
+                f"CIRC needs path_constraints named 'interim' or 'center' with a position constraint giving the point "
+                f"(path_constraints name: {found})",
             ))
-        constraint = pc.position_constraints[0]
-        if not constraint.constraint_region.primitive_poses:
+        if len(pc.position_constraints) != 1:
             raise _Failure(error_message(
-                "INVALID_GOAL_CONSTRAINTS", f"CIRC {pc.name} point: the position constraint has no primitive pose"))
+                "INVALID_MOTION_PLAN",
+                f"CIRC {pc.name} point: needs exactly one position constraint, got {len(pc.position_constraints)}"))
+        constraint = pc.position_constraints[0]
+        if len(constraint.constraint_region.primitive_poses) != 1:
+            raise _Failure(error_message(
+                "INVALID_MOTION_PLAN", f"CIRC {pc.name} point: the position constraint needs exactly one primitive pose, "
+                f"got {len(constraint.constraint_region.primitive_poses)}"))
         frame = constraint.header.frame_id
         try:
             base = scene.get_frame_transform(frame) if frame else np.eye(4)
@@ -373,7 +381,7 @@ class PilzPipeline:
             normal = np.cross(r0, r1)
             if radius0 < _COLINEAR or np.linalg.norm(normal) < _COLINEAR * radius0 * radius1:
                 raise _Failure(error_message(
-                    "PLANNING_FAILED", "CIRC: start, goal and center are colinear, the circle's plane is undefined"))
+                    "INVALID_MOTION_PLAN", "CIRC: start, goal and center are colinear, the circle's plane is undefined"))
             axis = normal / np.linalg.norm(normal)
             angle = math.atan2(float(np.linalg.norm(normal)), float(r0 @ r1))  # shorter arc, in (0, pi)
             return point, axis, radius0, angle
@@ -382,7 +390,7 @@ class PilzPipeline:
         ww = float(w @ w)
         if ww < (_COLINEAR * max(float(u @ u), float(v @ v), 1e-12)) ** 2 or ww < 1e-18:
             raise _Failure(error_message(
-                "PLANNING_FAILED", "CIRC: start, interim and goal points are colinear, the circle is undefined"))
+                "INVALID_MOTION_PLAN", "CIRC: start, interim and goal points are colinear, the circle is undefined"))
         center = p0 + (float(u @ u) * np.cross(v, w) + float(v @ v) * np.cross(w, u)) / (2.0 * ww)
         axis = w / math.sqrt(ww)
         r0, r1 = p0 - center, p1 - center
