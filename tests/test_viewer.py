@@ -749,3 +749,19 @@ def test_publish_draws_the_solution_markers(publishing_viewer):
         offset = (pm.frames[go.parentFrame].placement.inverse() * go.placement).homogeneous
         expected = end.get_global_link_transform(pm.frames[go.parentFrame].name) @ offset
         np.testing.assert_allclose(node["transform"], expected, atol=1e-5)
+
+
+def test_object_colors_from_the_scene(shapes_viewer, shapes_model):
+    """An object's scene colour (apply_collision_object's ObjectColor, set_object_color) is
+    the colour and opacity it is drawn with; others keep the default green."""
+    P = msgs.SolidPrimitive
+    scene = PlanningScene(shapes_model)
+    add_object(scene, "red", P.BOX, [0.1, 0.1, 0.1], pose((0.5, 0, 0)))
+    add_object(scene, "plain", P.BOX, [0.1, 0.1, 0.1], pose((-0.5, 0, 0)))
+    scene.set_object_color("red", msgs.ColorRGBA(r=1.0, g=0.0, b=0.0, a=0.5))
+    shapes_viewer.show_scene(scene)
+    tree = server_tree(shapes_viewer)
+    red = tree[f"{ROOT_PATH}/objects/red/0"]["object"]["materials"][0]
+    plain = tree[f"{ROOT_PATH}/objects/plain/0"]["object"]["materials"][0]
+    assert red["color"] == 0xFF0000 and red["opacity"] == 0.5 and red["transparent"]
+    assert plain["color"] == viewer_module._OBJECT_COLOR and plain["opacity"] == 1.0

@@ -160,6 +160,7 @@ class _Placement(NamedTuple):
 
     obj: WorldObject
     link: str | None
+    color: msgs.ColorRGBA | None = None  # the scene's display colour of the object, if set
 
     def pose(self, state: RobotState) -> np.ndarray:
         if self.link is None:
@@ -176,10 +177,11 @@ class _Key(NamedTuple):
 def _scene_objects(scene: PlanningScene | None) -> dict[str, _Placement]:
     if scene is None:
         return {}
-    out = {name: _Placement(scene.get_world_object(name), None) for name in scene.world_object_names}
+    color = scene.get_object_color
+    out = {name: _Placement(scene.get_world_object(name), None, color(name)) for name in scene.world_object_names}
     for name in scene.attached_object_names:
         att = scene.get_attached_object(name)
-        out[name] = _Placement(att.object, att.link)
+        out[name] = _Placement(att.object, att.link, color(name))
     return out
 
 
@@ -206,8 +208,15 @@ class _ObjectNodes:
 
     def __init__(self) -> None:
         self._versions: dict[str, list[tuple[WorldObject, str]]] = {}
+        self._colors: dict[str, msgs.ColorRGBA] = {}  # by path: the last colour a scene gave
 
-    def path_for(self, name: str, obj: WorldObject) -> str:
+    def path_for(self, name: str, obj: WorldObject, color: msgs.ColorRGBA | None = None) -> str:
+        path = self._path_for(name, obj)
+        if color is not None:
+            self._colors[path] = color
+        return path
+
+    def _path_for(self, name: str, obj: WorldObject) -> str:
         versions = self._versions.setdefault(name, [])
         for rep, path in versions:
             if _same_geometry(rep, obj):
@@ -215,6 +224,11 @@ class _ObjectNodes:
         path = f"objects/{_safe(name)}" + (f"~{len(versions)}" if versions else "")
         versions.append((obj, path))
         return path
+
+    def color(self, path: str) -> tuple[int, float]:
+        """(colour, opacity) to draw the object at ``path`` with."""
+        c = self._colors.get(path)
+        return (_OBJECT_COLOR, 1.0) if c is None else _color((c.r, c.g, c.b, c.a))
 
     def representative(self, path: str) -> WorldObject:
         for versions in self._versions.values():
@@ -438,7 +452,7 @@ def _build_animation(
         for link in links:  # key-major: forward kinematics runs once per key
             link_T[link][i] = key.state.get_global_link_transform(link)
         for name, placement in key.objects.items():
-            path = nodes.path_for(name, placement.obj)
+            path = nodes.path_for(name, placement.obj, placement.color)
             if path not in obj_T:
                 obj_T[path] = np.full((n, 4, 4), np.nan)
                 obj_vis[path] = np.zeros(n, dtype=bool)
@@ -622,11 +636,11 @@ def _coal_object(geom, color: int, opacity: float) -> dict | None:
     return None
 
 
-def _primitive_object(prim: msgs.SolidPrimitive, color: int) -> dict:
+def _primitive_object(prim: msgs.SolidPrimitive, color: int, opacity: float = 1.0) -> dict:
     import meshcat.geometry as mg
 
     d = [float(x) for x in prim.dimensions]
-    material = _material(color)
+    material = _material(color, opacity)
     P = msgs.SolidPrimitive
     if prim.type == P.BOX:
         return _mesh_object(mg.Box(d[:3]).lower({}), material)
@@ -664,23 +678,24 @@ def _visual_node(go, model: RobotModel, tint: int | None = None,
     return _coal_object(go.geometry, color, opacity), offset
 
 
-def _shape_node(shape, pose: np.ndarray, geometry) -> tuple[dict | None, np.ndarray]:
+def _shape_node(shape, pose: np.ndarray, geometry, color: int = _OBJECT_COLOR,
+                opacity: float = 1.0) -> tuple[dict | None, np.ndarray]:
     """(meshcat object, transform relative to the object) of one collision object shape."""
     if isinstance(shape, msgs.SolidPrimitive):
-        return _primitive_object(shape, _OBJECT_COLOR), pose
+        return _primitive_object(shape, color, opacity), pose
     if isinstance(shape, msgs.Mesh):
         vertices = np.array([[p.x, p.y, p.z] for p in shape.vertices], dtype=float).reshape(-1, 3)
         faces = np.array([t.vertex_indices for t in shape.triangles], dtype=np.uint32).reshape(-1, 3)
-        return _triangles_object(vertices, faces, _OBJECT_COLOR, 1.0), pose
+        return _triangles_object(vertices, faces, color, opacity), pose
     if isinstance(shape, MeshFile):
         fmt = _MESH_FORMATS.get(os.path.splitext(shape.filename)[1].lower())
         if fmt is not None:
             try:
-                obj = _mesh_file_object(shape.filename, fmt, _OBJECT_COLOR, 1.0, own_materials=False)
+                obj = _mesh_file_object(shape.filename, fmt, color, opacity, own_materials=False)
                 return obj, pose @ np.diag([*np.asarray(shape.scale, dtype=float), 1.0])
             except (OSError, UnicodeDecodeError) as e:
                 log.warning("cannot send mesh '%s' (%s); drawing its triangles instead", shape.filename, e)
-    return (_coal_object(geometry, _OBJECT_COLOR, 1.0) if geometry is not None else None), pose
+    return (_coal_object(geometry, color, opacity) if geometry is not None else None), pose
 
 
 # =============================================================================================
@@ -1041,7 +1056,7 @@ class Viewer:
             self._send_transform(f"robot/{_safe(link)}", state.get_global_link_transform(link))
         for name, placement in _scene_objects(self._scene).items():
             if placement.link is not None:
-                self._send_transform(self._nodes.path_for(name, placement.obj), placement.pose(state))
+                self._send_transform(self._nodes.path_for(name, placement.obj, placement.color), placement.pose(state))
         self._state = state.copy()
 
     def show_scene(self, scene: PlanningScene) -> None:
@@ -1054,7 +1069,7 @@ class Viewer:
         state = scene.current_state
         shown = set()
         for name, placement in _scene_objects(scene).items():
-            path = self._nodes.path_for(name, placement.obj)
+            path = self._nodes.path_for(name, placement.obj, placement.color)
             self._draw_object(path, placement.obj)
             self._send_transform(path, placement.pose(state))
             self._send_visible(path, True)
@@ -1253,8 +1268,9 @@ class Viewer:
         if path in self._drawn:
             return
         geometries = obj.geometries or (None,) * len(obj.shapes)
+        color, opacity = self._nodes.color(path)
         for k, (shape, pose, geom) in enumerate(zip(obj.shapes, obj.shape_poses, geometries)):
-            node, T = _shape_node(shape, pose, geom)
+            node, T = _shape_node(shape, pose, geom, color, opacity)
             if node is None:
                 log.warning("shape %d of object '%s' cannot be drawn; skipped", k, obj.id)
                 continue

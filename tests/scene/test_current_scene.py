@@ -301,3 +301,10 @@ def test_interface_for_another_robot(toy):
     psi.add_box("b", stamped((0.0, 0.0, 0.0), frame="base"))
     assert current_scene(toy).world_object_names == ["b"]
     assert psi.scene.robot_model is toy
+
+
+def test_add_plane_says_planes_are_not_supported():
+    """moveit_commander's add_plane: mtc has no planes, and says what to use instead."""
+    with pytest.raises(ValueError, match="planes are not supported.*thin box"):
+        PlanningSceneInterface().add_plane("floor", PoseStamped(header=Header(frame_id="world")))
+    assert "floor" not in current_scene().world_object_names

@@ -1179,3 +1179,66 @@ def test_detaching_beside_a_world_object_of_the_same_id_keeps_the_world_one(scen
         scene.detach_object("tool")
     assert scene.attached_object_names == [] and "not added" in caplog.text
     np.testing.assert_allclose(scene.get_frame_transform("tool")[:3, 3], [0.0, 0.0, 2.0])
+
+
+def test_object_colors(scene):
+    """Colours as moveit_py: apply_collision_object's ObjectColor (set for its own id),
+    set_object_color (for any id), listed in the scene message, kept by diffs, dropped with
+    the object; a bad colour raises before the object is applied."""
+    red = msgs.ColorRGBA(r=1.0, a=1.0)
+    scene.apply_collision_object(box("b", (1.0, 0.0, 0.0)), msgs.ObjectColor(id="b", color=red))
+    scene.set_object_color("later", msgs.ColorRGBA(g=1.0, a=0.5))
+    assert scene.get_object_color("b") == red
+    child = scene.diff()
+    assert child.get_object_color("b") == red
+    colors = scene.get_planning_scene_msg().object_colors
+    assert [(c.id, c.color.r, c.color.g) for c in colors] == [("b", 1.0, 0.0), ("later", 0.0, 1.0)]
+    assert scene.planning_scene_message.object_colors == colors
+    scene.apply_collision_object(CollisionObject(id="b", operation=CollisionObject.REMOVE))
+    assert scene.get_object_color("b") is None and child.get_object_color("b") == red
+    with pytest.raises(TypeError, match="ObjectColor"):
+        scene.apply_collision_object(box("c", (1.0, 0.0, 0.0)), red)
+    assert "c" not in scene.world_object_names
+    with pytest.raises(TypeError, match="ColorRGBA"):
+        scene.set_object_color("c", msgs.ObjectColor(id="c"))
+    with pytest.raises(ValueError, match="non-empty"):
+        scene.set_object_color("", red)
+
+
+def test_process_planning_scene_world_is_all_or_nothing(scene):
+    """process_planning_scene_world (also apply_planning_scene_world) applies each object;
+    a bad one raises and leaves the scene as it was."""
+    world = msgs.PlanningSceneWorld(collision_objects=[box("a", (1.0, 0.0, 0.0)), box("b", (2.0, 0.0, 0.0))])
+    scene.process_planning_scene_world(world)
+    assert scene.world_object_names == ["a", "b"]
+    before = snapshot(scene)
+    bad = msgs.PlanningSceneWorld(collision_objects=[box("c", (1.0, 0.0, 0.0)), box("d", (0, 0, 0), frame="nowhere")])
+    with pytest.raises(KeyError, match="'d'.*'nowhere'"):
+        scene.apply_planning_scene_world(bad)
+    assert snapshot(scene) == before
+    scene.process_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=CollisionObject(id="a")))
+    assert scene.attached_object_names == ["a"]
+
+
+def test_is_state_constrained(scene):
+    """is_state_constrained (moveit_py) checks joint and link constraints on a state."""
+    state = scene.current_state
+    q1 = state.joint_positions["panda_joint1"]
+    inside = msgs.Constraints(joint_constraints=[msgs.JointConstraint(
+        joint_name="panda_joint1", position=q1, tolerance_above=0.1, tolerance_below=0.1, weight=1.0)])
+    outside = msgs.Constraints(joint_constraints=[msgs.JointConstraint(
+        joint_name="panda_joint1", position=q1 + 1.0, tolerance_above=0.1, tolerance_below=0.1, weight=1.0)])
+    assert scene.is_state_constrained(state, inside)
+    assert not scene.is_state_constrained(state, outside, verbose=True)
+    with pytest.raises(TypeError, match="RobotState"):
+        scene.is_state_constrained("panda_arm", inside)
+
+
+def test_acm_clear_checks_every_pair(scene):
+    """AllowedCollisionMatrix.clear() (MoveIt's) drops every entry, the SRDF's disabled pairs
+    too: adjacent links, which touch, then count as colliding."""
+    acm = scene.allowed_collision_matrix
+    assert acm.get_entry("panda_link1", "panda_link2") and not scene.is_state_colliding()
+    acm.clear()
+    assert not acm.get_entry("panda_link1", "panda_link2")
+    assert ("panda_link1", "panda_link2") in scene.get_collisions()

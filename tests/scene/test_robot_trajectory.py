@@ -366,3 +366,18 @@ def test_set_robot_trajectory_msg_round_trip(panda, start):
     with pytest.raises(ValueError, match="time_from_start"):
         other.set_robot_trajectory_msg(start, backwards)
     np.testing.assert_array_equal(other.positions, before)
+
+
+def test_group_name_setter(panda, start):
+    """joint_model_group_name can be set (moveit_py): positions then cover the new group's
+    variables and the old group's velocities are dropped; an unknown group changes nothing."""
+    traj = sweep(panda, start, n=3)
+    traj.apply_totg_time_parameterization(1.0, 1.0)
+    traj.joint_model_group_name = "panda_arm"
+    assert traj.velocities is not None  # the same group keeps them
+    with pytest.raises(KeyError, match="no_group"):
+        traj.joint_model_group_name = "no_group"
+    assert traj.joint_model_group_name == "panda_arm"
+    traj.joint_model_group_name = "hand"
+    assert traj.joint_names == ["panda_finger_joint1"] and traj.positions.shape == (3, 1)
+    assert traj.velocities is None and traj.accelerations is None

@@ -43,6 +43,13 @@ class AllowedCollisionMatrix:
         other.token = self.token
         return other
 
+    def clear(self) -> None:
+        """Remove every entry and default entry (MoveIt's ``clear``): afterwards every pair is
+        checked, the SRDF's disabled pairs included."""
+        self._entries.clear()
+        self._defaults.clear()
+        self._changed()
+
     def _changed(self) -> None:
         self.version += 1
         self.token = object()

@@ -140,6 +140,17 @@ class PlanningSceneInterface:
     def add_cone(self, name: str, pose, height: float, radius: float) -> None:
         self.add_object(_primitive_object(name, pose, msgs.SolidPrimitive.CONE, [height, radius]))
 
+    def add_plane(self, name: str, pose, normal=(0, 0, 1), offset: float = 0) -> None:
+        """moveit_commander's ``add_plane``: planes are not supported.
+
+        Raises:
+            ValueError: always, suggesting a thin box (``add_box``) instead.
+        """
+        raise ValueError(
+            f"plane '{name}': planes are not supported; use a thin box instead, e.g. "
+            f"add_box('{name}', pose, size=(2.0, 2.0, 0.001))"
+        )
+
     def add_mesh(self, name: str, pose, filename: str, size=(1.0, 1.0, 1.0)) -> None:
         """A mesh loaded from ``filename`` (STL, OBJ, DAE ...), scaled by ``size``."""
         ps = _pose_stamped(pose, f"object '{name}'")

@@ -750,6 +750,7 @@ class PlanningScene:
         self._world: dict[str, WorldObject] = {}
         self._attached: dict[str, AttachedObject] = {}
         self._acm = AllowedCollisionMatrix(robot_model.disabled_collision_pairs)
+        self._colors: dict[str, msgs.ColorRGBA] = {}  # display colours by object id
         self._shared = 0  # bit 1: world, 2: attached objects shared with another scene
         # tokens replaced on every change of the world / attached objects: the collision set-up
         # cached under them stays valid exactly as long as they do
@@ -796,6 +797,7 @@ class PlanningScene:
         child._attached = self._attached
         # the ACM is copied, not shared: callers may hold the parent's ACM and edit it later
         child._acm = self._acm.copy()
+        child._colors = dict(self._colors)
         child._world_token = self._world_token
         child._attached_token = self._attached_token
         self._shared = child._shared = 3
@@ -846,6 +848,11 @@ class PlanningScene:
                     del self._own_world()[name]
         if start._acm.token is not end._acm.token:
             self._acm = end._acm.copy()
+        for name in start._colors.keys() - end._colors.keys():
+            self._colors.pop(name, None)
+        for name, color in end._colors.items():
+            if start._colors.get(name) is not color:
+                self._colors[name] = color
 
     # copy-on-write helpers
     # (callers change the returned dict right away, so the token is renewed here)
@@ -972,13 +979,25 @@ class PlanningScene:
         """
         if not isinstance(msg, msgs.CollisionObject):
             raise TypeError(f"apply_collision_object takes a msgs.CollisionObject, not {type(msg).__name__}")
+        if color is not None and not isinstance(color, msgs.ObjectColor):
+            raise TypeError(f"color must be a msgs.ObjectColor (its id names the object), not {type(color).__name__}")
+        if color is not None:
+            _check_name(color.id, "ObjectColor id")
+        self._apply_collision_object(msg)
+        if color is not None:  # (as moveit_py: the colour is set for the colour message's id)
+            self._colors[color.id] = color.color
+
+    def _apply_collision_object(self, msg: msgs.CollisionObject) -> None:
         op = msg.operation
         if op == msgs.CollisionObject.REMOVE:
             if not msg.id:
+                for name in self._world:
+                    self._colors.pop(name, None)
                 self._own_world().clear()
                 return
             self.get_world_object(msg.id)
             del self._own_world()[msg.id]
+            self._colors.pop(msg.id, None)  # as MoveIt: a removed object's colour goes with it
             return
         _check_name(msg.id)
         base = self._frame_of_header(msg.header.frame_id, f"object '{msg.id}'")
@@ -1026,7 +1045,47 @@ class PlanningScene:
     def process_collision_object(self, msg: msgs.CollisionObject, color=None) -> None:
         self.apply_collision_object(msg, color)
 
+    @moveit_py_keywords(msg="world", scene="world")
+    def process_planning_scene_world(self, world: msgs.PlanningSceneWorld) -> None:
+        """Apply every collision object of a ``msgs.PlanningSceneWorld`` in order (moveit_py's
+        ``process_planning_scene_world``, also ``apply_planning_scene_world``). All or nothing:
+        a bad object raises before any of them is applied.
+
+        Raises:
+            TypeError: not a ``msgs.PlanningSceneWorld``.
+            ValueError, KeyError: as :meth:`apply_collision_object`, naming the object.
+        """
+        if not isinstance(world, msgs.PlanningSceneWorld):
+            raise TypeError(f"expected a msgs.PlanningSceneWorld, not {type(world).__name__}")
+        trial = self.copy()
+        for obj in world.collision_objects:
+            trial.apply_collision_object(obj)
+        for obj in world.collision_objects:
+            self.apply_collision_object(obj)
+
+    apply_planning_scene_world = process_planning_scene_world
+
+    def set_object_color(self, object_id: str, color_msg: msgs.ColorRGBA) -> None:
+        """Set the display colour of ``object_id`` (moveit_py's ``set_object_color``; as MoveIt,
+        the object need not exist yet). It shows in :meth:`get_planning_scene_msg`'s
+        ``object_colors`` and in the viewer.
+
+        Raises:
+            ValueError: empty id.
+            TypeError: ``color_msg`` is not a ``msgs.ColorRGBA``.
+        """
+        _check_name(object_id)
+        if not isinstance(color_msg, msgs.ColorRGBA):
+            raise TypeError(f"color_msg must be a msgs.ColorRGBA, not {type(color_msg).__name__}")
+        self._colors[object_id] = color_msg
+
+    def get_object_color(self, object_id: str) -> msgs.ColorRGBA | None:
+        """The display colour set for ``object_id``, or None."""
+        return self._colors.get(object_id)
+
     def remove_all_collision_objects(self) -> None:
+        for name in self._world:
+            self._colors.pop(name, None)
         self._own_world().clear()
 
     # ------------------------------------------------------------------ attaching
@@ -1074,6 +1133,7 @@ class PlanningScene:
             return
         self._own_world()[name] = att.object.moved(link_pose @ att.object.pose)
 
+    @moveit_py_keywords(object="msg")
     def apply_attached_collision_object(self, msg: msgs.AttachedCollisionObject) -> None:
         """Attach (object.operation ADD: a new object given with shapes, or an existing world
         object given by id alone), add shapes to an attached object (APPEND; attaches a new one
@@ -1136,6 +1196,8 @@ class PlanningScene:
                 log.warning("appending to attached object '%s': the world object of that id is removed", obj.id)
             del self._own_world()[obj.id]
         self._own_attached()[obj.id] = attached
+
+    process_attached_collision_object = apply_attached_collision_object
 
     # ------------------------------------------------------------------ frames
     def _attached_frame(self, frame: str):
@@ -1240,6 +1302,31 @@ class PlanningScene:
         state, group = self._state_and_group(state, group)
         st = self._state if state is None else state
         return st.satisfies_bounds(group) and not self.is_state_colliding(st, group, verbose)
+
+    @moveit_py_keywords(robot_state="state")
+    def is_state_constrained(self, state: RobotState, constraints: msgs.Constraints, verbose: bool = False) -> bool:
+        """Whether ``state`` satisfies ``constraints`` (joint, position and orientation
+        constraints; frames may be objects of this scene), as moveit_py's
+        ``is_state_constrained``.
+
+        Args:
+            verbose: log the constraints that do not hold (logger
+                ``mtc.scene.planning_scene``, INFO).
+
+        Raises:
+            TypeError: ``state`` is not a RobotState or ``constraints`` not ``msgs.Constraints``.
+            KeyError, ValueError: a malformed constraint (see ``KinematicConstraintSet``).
+        """
+        from mtc.planners.constraints import KinematicConstraintSet
+
+        if not isinstance(state, RobotState):
+            raise TypeError(f"state must be a RobotState, not {type(state).__name__}")
+        cset = KinematicConstraintSet(self._model, constraints)
+        if cset.satisfied(state, self):
+            return True
+        if verbose:
+            log.info("constraints not satisfied: %s", "; ".join(cset.violations(state, self)))
+        return False
 
     def state_validity_checker(self, group: str | None = None):
         """A fast callable ``f(q) -> bool`` telling whether a full variable vector ``q`` is
@@ -1447,8 +1534,14 @@ class PlanningScene:
             world=msgs.PlanningSceneWorld(
                 collision_objects=[self.get_collision_object_msg(n) for n in self.world_object_names]
             ),
+            object_colors=[msgs.ObjectColor(id=k, color=replace(c)) for k, c in sorted(self._colors.items())],
             is_diff=False,
         )
+
+    @property
+    def planning_scene_message(self) -> msgs.PlanningScene:
+        """moveit_py's name of :meth:`get_planning_scene_msg`."""
+        return self.get_planning_scene_msg()
 
     def __repr__(self) -> str:
         return (

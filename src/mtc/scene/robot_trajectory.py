@@ -78,6 +78,21 @@ class RobotTrajectory:
     def joint_model_group_name(self) -> str:
         return self._group.name
 
+    @joint_model_group_name.setter
+    def joint_model_group_name(self, name: str) -> None:
+        """Set the group (moveit_py's setter): ``positions`` and the messages then cover its
+        variables; velocities and accelerations, which were for the old group's, are dropped
+        unless the group stays the same.
+
+        Raises:
+            KeyError: unknown group.
+        """
+        group = self._model.get_joint_model_group(name)
+        if group.variable_names != self._group.variable_names:
+            self.velocities = self.accelerations = None
+            self._efforts = [None] * len(self.waypoints)
+        self._group = group
+
     @property
     def group(self):
         return self._group
