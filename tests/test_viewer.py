@@ -765,3 +765,56 @@ def test_object_colors_from_the_scene(shapes_viewer, shapes_model):
     plain = tree[f"{ROOT_PATH}/objects/plain/0"]["object"]["materials"][0]
     assert red["color"] == 0xFF0000 and red["opacity"] == 0.5 and red["transparent"]
     assert plain["color"] == viewer_module._OBJECT_COLOR and plain["opacity"] == 1.0
+
+
+def _recorded(viewer, monkeypatch) -> list[dict]:
+    """Every command the viewer sends from now on, in order."""
+    sent: list[dict] = []
+    send = viewer._send
+
+    def record(data: dict) -> None:
+        sent.append(data)
+        send(data)
+
+    monkeypatch.setattr(viewer, "_send", record)
+    return sent
+
+
+def test_a_new_animation_replaces_the_old_before_its_final_frame(shapes_viewer, shapes_model, monkeypatch):
+    """Stopping a page's animation restores what it animated (three.js), so each play stops
+    the old one first and then sends its final frame in full, visibility included: an object
+    an earlier animation hid at its end shows again in one where it exists. A play without
+    motion also unloads the old animation, and show_state after an animation sends the world
+    objects' poses and every object's visibility again (a page opened meanwhile had them
+    reset)."""
+    s0 = PlanningScene(shapes_model)
+    add_object(s0, "keg", msgs.SolidPrimitive.BOX, [0.1, 0.1, 0.1], pose((0.4, 0, 0)))
+    s1 = s0.diff()
+    s1.apply_collision_object(msgs.CollisionObject(id="keg", operation=msgs.CollisionObject.REMOVE))
+    start = s0.current_state
+    traj = RobotTrajectory.from_positions(shapes_model, "", start, np.array([[0.0], [1.0]]), np.array([0.0, 0.5]))
+    back = RobotTrajectory.from_positions(shapes_model, "", start, np.array([[1.0], [0.0]]), np.array([0.0, 0.5]))
+    path = f"{ROOT_PATH}/objects/keg"
+    shapes_viewer.show_scene(s0)
+    shapes_viewer.play([(traj, s0, s0), (None, s0, s1)])  # ends with the keg hidden
+    sent = _recorded(shapes_viewer, monkeypatch)
+    shapes_viewer.play([(back, s0, s0)])  # the keg is there throughout
+    kinds = [(c["type"], c.get("path")) for c in sent]
+    stop = kinds.index(("set_animation", ""))
+    shown = [i for i, c in enumerate(sent) if c["type"] == "set_property" and c["path"] == path and c["value"] is True]
+    new = [i for i, c in enumerate(sent) if c["type"] == "set_animation" and c["animations"]]
+    assert sent[stop]["animations"] == [] and stop < shown[0] < new[0]
+
+    sent.clear()
+    assert shapes_viewer.play([(None, s0, s0)]) == 0.0  # no motion: the old animation goes
+    assert [c["animations"] for c in sent if c["type"] == "set_animation"] == [[]]
+
+    shapes_viewer.play([(traj, s0, s0)])
+    sent.clear()
+    shapes_viewer.show_state(start)
+    transforms = {c["path"] for c in sent if c["type"] == "set_transform"}
+    assert sent[0]["type"] == "set_animation" and path in transforms
+    assert any(c["type"] == "set_property" and c["path"] == path and c["value"] is True for c in sent)
+    sent.clear()
+    shapes_viewer.show_state(start)  # no animation to stop: the world stays as it is
+    assert {c["path"] for c in sent} & {path} == set()

@@ -991,9 +991,10 @@ class Viewer:
         self._links = _visual_links(robot_model)
         self._nodes = _ObjectNodes()
         self._drawn: set[str] = set()  # object node paths with geometry on the server
-        # hidden object nodes: visibility is sent only when it changes, as the server keeps
-        # every set_property it gets (and replays them all to each new page)
-        self._hidden: set[str] = set()
+        # object node paths -> the visibility the page has: sent only when it changes, as the
+        # server keeps every set_property it gets (and replays them all to each new page);
+        # missing: unknown, sent next time (see _stop_animation)
+        self._visibility: dict[str, bool] = {}
         self._scene: PlanningScene | None = None  # what show_scene / play showed last
         self._state = RobotState(robot_model)
         self._animation_loaded = False
@@ -1051,12 +1052,18 @@ class Viewer:
             raise TypeError(f"show_state takes a RobotState, not {type(state).__name__}")
         _check_model(self._model, state.robot_model, "the state")
         self._require_open()
-        self._stop_animation()
+        restored = self._stop_animation()
         for link in self._links:
             self._send_transform(f"robot/{_safe(link)}", state.get_global_link_transform(link))
+        shown = set()
         for name, placement in _scene_objects(self._scene).items():
-            if placement.link is not None:
-                self._send_transform(self._nodes.path_for(name, placement.obj, placement.color), placement.pose(state))
+            path = self._nodes.path_for(name, placement.obj, placement.color)
+            if placement.link is not None or restored:
+                self._send_transform(path, placement.pose(state))
+            shown.add(path)
+        if restored:  # the page may show objects of the animation that are not in the scene
+            for path in sorted(self._drawn):
+                self._send_visible(path, path in shown)
         self._state = state.copy()
 
     def show_scene(self, scene: PlanningScene) -> None:
@@ -1151,6 +1158,9 @@ class Viewer:
         anim = _build_animation(self._model, segs, fps, self._scene, self._nodes, self._links)
         if anim.final is None:
             return 0.0
+        # the old animation goes first: stopping it restores the nodes it animated, so the
+        # final frame below is what the page keeps (and what the new one starts from)
+        self._stop_animation()
         object_paths = {p for p in anim.tracks if p.startswith("objects/")}
         for path in sorted(object_paths):
             self._draw_object(path, self._nodes.representative(path))
@@ -1235,13 +1245,10 @@ class Viewer:
         self._send({"type": "set_transform", "path": self._full(path), "matrix": _matrix_list(T)})
 
     def _send_visible(self, path: str, visible: bool) -> None:
-        if visible != (path in self._hidden):
+        if self._visibility.get(path) is bool(visible):
             return
         self._send({"type": "set_property", "path": self._full(path), "property": "visible", "value": bool(visible)})
-        if visible:
-            self._hidden.discard(path)
-        else:
-            self._hidden.add(path)
+        self._visibility[path] = bool(visible)
 
     def _send_object(self, path: str, obj: dict) -> None:
         self._send({"type": "set_object", "path": self._full(path), "object": obj})
@@ -1277,18 +1284,26 @@ class Viewer:
             self._send_object(f"{path}/{k}", node)
             self._send_transform(f"{path}/{k}", T)
         self._drawn.add(path)
+        self._visibility[path] = True  # a new node (deleting one forgets it)
 
     def _delete_objects(self, paths: Iterable[str]) -> None:
         for path in sorted(paths):
             self._send_delete(path)
             self._drawn.discard(path)
-            self._hidden.discard(path)
+            self._visibility.pop(path, None)
 
-    def _stop_animation(self) -> None:
-        # a loaded animation would snap nodes back when the page's time slider moves
-        if self._animation_loaded:
-            self._send({"type": "set_animation", "path": "", "animations": [], "options": {"play": False}})
-            self._animation_loaded = False
+    def _stop_animation(self) -> bool:
+        """Unload the page's animation (a loaded one would snap nodes back when the page's time
+        slider moves). Whether one was loaded: stopping it makes three.js restore each animated
+        node to what it had when the animation started (on a page opened later: the
+        defaults, as the server sends the animation first), so the caller sends the
+        transforms anew, and no visibility is known any more."""
+        if not self._animation_loaded:
+            return False
+        self._send({"type": "set_animation", "path": "", "animations": [], "options": {"play": False}})
+        self._animation_loaded = False
+        self._visibility.clear()
+        return True
 
     def _send_animation(self, anim: _Animation, fps: float, repetitions: int) -> None:
         from meshcat.animation import Animation, AnimationClip, AnimationTrack
