@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+import gc
 import math
+import weakref
 
 import numpy as np
 import pinocchio as pin
 import pytest
+from scene_helpers import TOY_SRDF, TOY_URDF
 
 from mtc import msgs
 from mtc.scene.planning_scene import MotionChecker, PlanningScene
+from mtc.scene.robot_model import RobotModel
 
 ARM = "panda_arm"
 
@@ -268,3 +272,16 @@ def test_shallow_penetration_of_a_hull_is_seen_by_every_check(panda):
     checker = scene.motion_checker(ARM)
     assert not checker.free(q)
     assert checker.first_colliding(q[None, :]) == 0
+
+
+def test_a_dropped_robot_model_is_freed():
+    """The motion bounds cached per robot model do not keep a model alive: a loop that loads
+    a model per task does not grow (each Panda model holds about 70 MB)."""
+    model = RobotModel(str(TOY_URDF), str(TOY_SRDF))
+    scene = PlanningScene(model)
+    checker = scene.motion_checker("group")
+    assert checker.certifiable  # the bounds were built (and cached)
+    ref = weakref.ref(model)
+    del scene, checker, model
+    gc.collect()
+    assert ref() is None

@@ -11,6 +11,7 @@ or the ACM change, so a planner checking thousands of states of one scene pays f
 from __future__ import annotations
 
 import logging
+import weakref
 from dataclasses import dataclass, field, replace
 
 import coal
@@ -299,14 +300,15 @@ def _motion_model(model: RobotModel, B_own: np.ndarray, anc: np.ndarray):
     return B, movable, T
 
 
-_ROBOT_MOTION_ROWS: dict[int, tuple] = {}
-_ROBOT_MOTION_MODELS: dict[int, tuple] = {}
+# per robot model, weakly: a model the user drops is freed with its entries
+_ROBOT_MOTION_ROWS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+_ROBOT_MOTION_MODELS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _robot_motion_model(model: RobotModel):
     """:func:`_motion_model` of the robot's own collision geometries (cached per model)."""
-    entry = _ROBOT_MOTION_MODELS.get(id(model))
-    if entry is None or entry[0] is not model:
+    parts = _ROBOT_MOTION_MODELS.get(model)
+    if parts is None:
         rows, ancestors = _robot_motion_rows(model)
         nq = model.pinocchio_model.nq
         parts = _motion_model(
@@ -314,23 +316,17 @@ def _robot_motion_model(model: RobotModel):
         )
         for a in parts:
             a.flags.writeable = False
-        entry = (model, parts)
-        if len(_ROBOT_MOTION_MODELS) > 32:
-            _ROBOT_MOTION_MODELS.clear()
-        _ROBOT_MOTION_MODELS[id(model)] = entry
-    return entry[1]
+        _ROBOT_MOTION_MODELS[model] = parts
+    return parts
 
 
 def _robot_motion_rows(model: RobotModel) -> tuple[list, list]:
     """:func:`_geometry_motion_row` of every robot collision geometry (cached per model)."""
-    entry = _ROBOT_MOTION_ROWS.get(id(model))
-    if entry is None or entry[0] is not model:
+    entry = _ROBOT_MOTION_ROWS.get(model)
+    if entry is None:
         rows = [_geometry_motion_row(model, go) for go in model.collision_model.geometryObjects]
-        entry = (model, [r for r, _ in rows], [a for _, a in rows])
-        if len(_ROBOT_MOTION_ROWS) > 32:
-            _ROBOT_MOTION_ROWS.clear()
-        _ROBOT_MOTION_ROWS[id(model)] = entry
-    return entry[1], entry[2]
+        entry = _ROBOT_MOTION_ROWS[model] = ([r for r, _ in rows], [a for _, a in rows])
+    return entry
 
 
 class _CollisionEnv:
