@@ -385,3 +385,8 @@ def test_a_solution_message_with_an_ik_target_marker_compares_by_value():
     msg = solution_to_msg(task.solutions[0])
     assert any(m.get("ns") == "ik target" for sub in msg.sub_trajectory for m in sub.info.markers)
     assert copy.deepcopy(msg) == msg
+    # the JSON round trip gives the markers' messages back as messages (not dicts)
+    back = solution_from_json(solution_to_json(task.solutions[0]))
+    assert back == msg
+    frames = [m for sub in back.sub_trajectory for m in sub.info.markers if m.get("name") == "target frame"]
+    assert frames and isinstance(frames[0]["pose"], msgs.PoseStamped)

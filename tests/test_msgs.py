@@ -760,3 +760,18 @@ def test_rotation_angle_and_axis_angle_round_trip():
     assert np.array_equal(msgs.axis_angle_matrix([0.0, 0.0, 0.0], 1.0), np.eye(3))
     # the acos form would give 0 here: 1e-9 rad is below its resolution
     assert msgs.rotation_angle(msgs.axis_angle_matrix([0, 0, 1], 1e-9)) > 0
+
+
+def test_messages_in_untyped_fields_round_trip():
+    """Messages held in an untyped field (SolutionInfo.markers holds any objects), also inside
+    lists and dicts there, carry their class name and come back as messages; typed fields carry
+    no tag; other values stay plain."""
+    pose = PoseStamped(header=Header(frame_id="world"))
+    pose.pose.position.x = 0.5
+    info = SolutionInfo(id=3, markers=[{"name": "frame", "pose": pose, "points": [pose.pose.position, 1.0]}, "text"])
+    data = to_dict(info)
+    assert data["markers"][0]["pose"]["_msg"] == "PoseStamped" and "_msg" not in data["markers"][0]["pose"]["header"]
+    back = from_dict(SolutionInfo, json.loads(json.dumps(data)))
+    assert back == info
+    assert isinstance(back.markers[0]["pose"], PoseStamped) and isinstance(back.markers[0]["points"][0], Point)
+    assert "_msg" not in to_dict(pose)

@@ -24,7 +24,8 @@ Differences from ROS, all deliberate:
   seconds.
 * ``Header`` keeps ROS 1's ``seq`` field (ROS 2 dropped it); it is never read.
 * Fields that need packages ``mtc`` does not model are left out: ``PlanningSceneWorld.octomap``,
-  ``SolidPrimitive.polygon`` (ROS 2's ``PRISM``); ``SolutionInfo.markers`` holds any objects.
+  ``SolidPrimitive.polygon`` (ROS 2's ``PRISM``); ``SolutionInfo.markers`` holds any objects
+  (:func:`to_dict` names the class of a message among them, so :func:`from_dict` rebuilds it).
 * ``msgs.RobotState``, ``msgs.PlanningScene`` and ``msgs.RobotTrajectory`` are the messages;
   the live objects of the same names are ``mtc.RobotState``, ``mtc.PlanningScene`` and
   ``mtc.RobotTrajectory`` (as ROS has both ``moveit_msgs.msg.PlanningScene`` and
@@ -1156,22 +1157,34 @@ def to_dict(msg: Any) -> dict[str, Any]:
 
 _PLAIN = (bool, int, float, str, type(None))
 
+#: Key naming the message class of a message held in an untyped field (``SolutionInfo.markers``
+#: holds any objects), so that :func:`from_dict` rebuilds it instead of leaving a dict.
+TYPE_KEY = "_msg"
 
-def _encode(value: Any, path: str) -> Any:
+
+def _untyped(hint: Any) -> bool:
+    """Whether a field of type ``hint`` may hold any object (``Any``, ``list[Any]``)."""
+    return hint is Any or (typing.get_origin(hint) is list and typing.get_args(hint) == (Any,))
+
+
+def _encode(value: Any, path: str, tag: bool = False) -> Any:
+    """Plain data of ``value``; ``tag``: inside an untyped field, where messages carry their
+    class name (:data:`TYPE_KEY`)."""
     if type(value) in _PLAIN:
         return value
     if isinstance(value, _Message) or (
         dataclasses.is_dataclass(value) and not isinstance(value, type)
     ):
-        return {
-            name: _encode(getattr(value, name), f"{path}.{name}")
-            for name in _field_names(type(value))
-        }
+        cls = type(value)
+        out = {TYPE_KEY: cls.__name__} if tag and globals().get(cls.__name__) is cls else {}
+        for name, untyped in _encoded_fields(cls):
+            out[name] = _encode(getattr(value, name), f"{path}.{name}", untyped)
+        return out
     if isinstance(value, (list, tuple)):
         # fast path for the bulk of a solution: waypoint lists of plain numbers
         if all(type(v) is float or type(v) is int for v in value):
             return list(value)
-        return [_encode(v, f"{path}[{i}]") for i, v in enumerate(value)]
+        return [_encode(v, f"{path}[{i}]", tag) for i, v in enumerate(value)]
     if isinstance(value, np.ndarray):
         return _encode(value.tolist(), path)
     if isinstance(value, np.generic):
@@ -1179,11 +1192,21 @@ def _encode(value: Any, path: str) -> Any:
     if isinstance(value, _PLAIN):  # subclasses such as IntEnum members
         return value
     if isinstance(value, Mapping):
-        return {str(k): _encode(v, f"{path}[{k!r}]") for k, v in value.items()}
+        return {str(k): _encode(v, f"{path}[{k!r}]", tag) for k, v in value.items()}
     raise TypeError(
         f"to_dict(): {path} holds a {type(value).__name__}, which is not plain data "
         "(expected a message, list, number, bool, str or None)"
     )
+
+
+@functools.lru_cache(maxsize=None)
+def _encoded_fields(cls: type) -> tuple[tuple[str, bool], ...]:
+    """(name, untyped) of each field of a dataclass (other dataclasses than messages: all
+    typed, their hints are not read)."""
+    if not issubclass(cls, _Message):
+        return tuple((name, False) for name in _field_names(cls))
+    types = _field_types(cls)
+    return tuple((name, _untyped(types[name])) for name in _field_names(cls))
 
 
 @functools.lru_cache(maxsize=None)
@@ -1235,9 +1258,24 @@ def _decode_message(cls: type, data: Any, path: str) -> Any:
     return cls(**{key: _decode(types[key], value, f"{path}.{key}") for key, value in data.items()})
 
 
+def _decode_untyped(value: Any, path: str) -> Any:
+    """A value of an untyped field: messages :func:`to_dict` tagged with their class
+    (:data:`TYPE_KEY`) are rebuilt, in lists and dicts too; everything else stays as it is."""
+    if isinstance(value, Mapping):
+        name = value.get(TYPE_KEY)
+        if isinstance(name, str):
+            cls = globals().get(name)
+            if isinstance(cls, type) and issubclass(cls, _Message):
+                return _decode_message(cls, {k: v for k, v in value.items() if k != TYPE_KEY}, path)
+        return {k: _decode_untyped(v, f"{path}[{k!r}]") for k, v in value.items()}
+    if isinstance(value, list):
+        return [_decode_untyped(v, f"{path}[{i}]") for i, v in enumerate(value)]
+    return value
+
+
 def _decode(hint: Any, value: Any, path: str) -> Any:
     if hint is Any:
-        return value
+        return _decode_untyped(value, path)
     origin = typing.get_origin(hint)
     if origin is list:
         if not isinstance(value, (list, tuple)):
