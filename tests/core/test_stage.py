@@ -114,6 +114,27 @@ def test_spawn_forms(t):
     assert t.solutions[1].solutions[0].comment == "sub"
 
 
+def test_bad_input_found_while_computing_names_the_stage(t):
+    """An exception a stage's compute raises on bad input (ValueError, TypeError, KeyError,
+    IndexError) leaves plan() as it is, with a note naming the innermost stage."""
+    import sys
+
+    class Faulty(core.Generator):
+        def canCompute(self):
+            return True
+
+        def compute(self):
+            raise ValueError("pose.position.x must be finite, got nan")
+
+    inner = core.SerialContainer("inner")
+    inner.add(Faulty("faulty"))
+    t.add(inner)
+    with pytest.raises(ValueError, match="must be finite") as info:
+        t.plan()
+    if sys.version_info >= (3, 11):
+        assert info.value.__notes__ == ["in stage 'faulty'"]
+
+
 class PyMonitoringGenerator(core.MonitoringGenerator):
     """MTC's documented custom monitoring generator."""
 

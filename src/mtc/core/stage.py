@@ -513,6 +513,12 @@ class Stage(TypedPropertyAccess):
             self._compute()
         except PropertyError as e:
             raise RuntimeError(str(e) + self._composePropertyErrorMsg(e.name)) from None
+        except (ValueError, TypeError, KeyError, IndexError) as e:
+            # bad input found while computing (a NaN pose, say): the traceback names the stage
+            # (the innermost one; Python 3.11's notes, shown below the message)
+            if hasattr(e, "add_note") and not any(n.startswith("in stage '") for n in getattr(e, "__notes__", ())):
+                e.add_note(f"in stage '{self._name}'")
+            raise
         finally:
             self._total_compute_time += _perf_counter() - start
 
