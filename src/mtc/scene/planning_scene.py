@@ -981,7 +981,7 @@ class PlanningScene:
             _check_name(color.id, "ObjectColor id")
         self._apply_collision_object(msg)
         if color is not None:  # (as moveit_py: the colour is set for the colour message's id)
-            self._colors[color.id] = color.color
+            self._colors[color.id] = replace(color.color)  # (a copy: the caller may reuse the message)
 
     def _apply_collision_object(self, msg: msgs.CollisionObject) -> None:
         op = msg.operation
@@ -1073,7 +1073,7 @@ class PlanningScene:
         _check_name(object_id)
         if not isinstance(color_msg, msgs.ColorRGBA):
             raise TypeError(f"color_msg must be a msgs.ColorRGBA, not {type(color_msg).__name__}")
-        self._colors[object_id] = color_msg
+        self._colors[object_id] = replace(color_msg)
 
     def get_object_color(self, object_id: str) -> msgs.ColorRGBA | None:
         """The display colour set for ``object_id``, or None."""
