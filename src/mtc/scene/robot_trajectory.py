@@ -174,7 +174,8 @@ class RobotTrajectory:
         not otherwise used, see docs/porting.md). Returns True.
 
         Raises:
-            ValueError: a scaling factor outside (0, 1] or a negative tolerance or step.
+            ValueError: a scaling factor outside [0, 1] (0 means 1.0, as in MoveIt) or a negative tolerance
+                or step.
         """
         from mtc.planners.time_parameterization import time_parameterize
 
