@@ -43,6 +43,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import numbers
 import sys
 import typing
 from collections.abc import Mapping
@@ -1080,6 +1081,57 @@ def matrix_to_pose(T: Any) -> Pose:
         position=Point(x=x, y=y, z=z),
         orientation=_quaternion_from_rotation(matrix[:3, :3], "matrix_to_pose"),
     )
+
+
+def validate(msg: Any, what: str, finite: bool = True) -> None:
+    """Check that every field of ``msg`` (a message, recursively) holds its declared type and,
+    with ``finite``, that no number is NaN or infinite, as a ROS message conversion would
+    refuse a wrong type at the call (messages here are plain dataclasses that take anything).
+
+    Args:
+        what: Names the message in errors (e.g. ``"setGoal"``).
+
+    Raises:
+        TypeError: a field of the wrong type, naming its path and the type it needs.
+        ValueError: a NaN or infinite number (``finite``), naming its path.
+    """
+    _validate(msg, type(msg), what, type(msg).__name__, finite)
+
+
+def _validate(value: Any, hint: Any, what: str, path: str, finite: bool) -> None:
+    if hint is Any:
+        return
+    if hint is float or hint is int:
+        if not isinstance(value, numbers.Real) or isinstance(value, (bool, np.bool_)) or (
+            hint is int and not isinstance(value, numbers.Integral)
+        ):
+            raise TypeError(f"{what}: {path} must be a number, got {value!r}")
+        if finite and not math.isfinite(value):
+            raise ValueError(f"{what}: {path} must be finite, got {value!r}")
+        return
+    if hint is str or hint is bool:
+        if not (isinstance(value, str) if hint is str else is_bool(value)):
+            raise TypeError(f"{what}: {path} must be a {hint.__name__}, got {value!r}")
+        return
+    if typing.get_origin(hint) is list:
+        if not isinstance(value, (list, tuple)):
+            raise TypeError(f"{what}: {path} must be a list, got {value!r}")
+        (item,) = typing.get_args(hint)
+        for i, v in enumerate(value):
+            _validate(v, item, what, f"{path}[{i}]", finite)
+        return
+    if isinstance(hint, type) and issubclass(hint, _Message):
+        if not isinstance(value, hint):
+            raise TypeError(f"{what}: {path} must be a msgs.{hint.__name__}, got {value!r}")
+        types = _field_types(hint)
+        for name in _field_names(hint):
+            _validate(getattr(value, name), types[name], what, f"{path}.{name}", finite)
+
+
+def is_bool(value: Any) -> bool:
+    """Whether ``value`` is True or False: a Python bool or a numpy one (as pybind11's bool
+    caster takes both)."""
+    return isinstance(value, (bool, np.bool_))
 
 
 def identity_pose_stamped(frame_id: str) -> PoseStamped:

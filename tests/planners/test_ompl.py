@@ -92,8 +92,12 @@ def test_unknown_planner_id_lists_the_known_ones(ready_scene, pipeline):
 
 def test_bad_arguments_are_refused(ready_scene, pipeline):
     st = ready_scene.current_state
-    with pytest.raises(ValueError, match="timeout must be > 0"):
-        pipeline.plan_joint(ready_scene, st, st, ARM, timeout=0.0)
+    for bad in (-1.0, float("nan")):
+        with pytest.raises(ValueError, match="timeout must be >= 0"):
+            pipeline.plan_joint(ready_scene, st, st, ARM, timeout=bad)
+    # no time at all: a failed request, as MoveIt's OMPL (not an exception)
+    result, traj = pipeline.plan_joint(ready_scene, st, st, ARM, timeout=0.0)
+    assert not result and traj is None and result.message.startswith("TIMED_OUT")
     with pytest.raises(ValueError, match="num_planning_attempts"):
         pipeline.plan_joint(ready_scene, st, st, ARM, attempts=0)
     with pytest.raises(KeyError, match="arm"):

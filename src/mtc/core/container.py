@@ -16,11 +16,12 @@ walks along solutions and across this map.
 from __future__ import annotations
 
 import logging
+import numbers
 import sys
 from bisect import bisect_right
+from collections.abc import Callable
 
 import numpy as np
-from collections.abc import Callable
 
 from mtc.core.properties import PropertyError
 from mtc.core.stage import (
@@ -85,6 +86,17 @@ def _state_of(direction: int, solution: SolutionBase) -> InterfaceState:
     return solution._end if direction == FORWARD else solution._start
 
 
+
+def _index(value, name: str) -> int:
+    """A child position: an integer (numpy's too), not a bool, float or string.
+
+    Raises:
+        TypeError: any other value, naming ``name``.
+    """
+    if isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_)):
+        return int(value)
+    raise TypeError(f"{name} must be a child position (an integer; negative counts from the end), got {value!r}")
+
 class ContainerBase(Stage):
     """Base of all containers.
 
@@ -136,16 +148,20 @@ class ContainerBase(Stage):
         return n if index < 0 else n - k
 
     def add(self, *stages: Stage) -> None:
-        """Append stages."""
+        """Append stages (all or none: every one is checked before the first is added).
+
+        Raises:
+            RuntimeError, TypeError: as :meth:`insert`, for any of them, or one given twice.
+        """
+        for i, stage in enumerate(stages):
+            self._check_child(stage)
+            if any(stage is other for other in stages[:i]):
+                raise RuntimeError(f"Tried to add stage '{stage._name}' to two parents")
         for stage in stages:
             self.insert(stage, -1)
 
-    def insert(self, stage: Stage, before: int = -1) -> None:
-        """Insert ``stage`` before position ``before`` (-1: append, 0: prepend, -2: before the last).
-
-        Raises:
-            RuntimeError: ``stage`` is None or already has a parent.
-        """
+    def _check_child(self, stage) -> None:
+        """Raise if ``stage`` cannot become a child of this container."""
         if stage is None:
             raise RuntimeError(f"{self._name}: received invalid stage pointer")
         if not isinstance(stage, Stage):
@@ -157,7 +173,15 @@ class ContainerBase(Stage):
             if ancestor is stage:
                 raise RuntimeError(f"{self._name}: cannot add stage '{stage._name}' to itself or its own child")
             ancestor = ancestor._parent
-        pos = self._childByIndex(int(before), True)
+
+    def insert(self, stage: Stage, before: int = -1) -> None:
+        """Insert ``stage`` before position ``before`` (-1: append, 0: prepend, -2: before the last).
+
+        Raises:
+            RuntimeError: ``stage`` is None or already has a parent.
+        """
+        self._check_child(stage)
+        pos = self._childByIndex(_index(before, "before"), True)
         self._children.insert(pos, stage)
         stage._parent = self
 
@@ -170,7 +194,7 @@ class ContainerBase(Stage):
             else:
                 return None
         else:
-            i = self._childByIndex(int(child), False)
+            i = self._childByIndex(_index(child, "child"), False)
             if i >= len(self._children):
                 return None
         stage = self._children.pop(i)

@@ -14,6 +14,7 @@ value is ``None`` is not ``defined()``.
 from __future__ import annotations
 
 import copy
+import math
 import numbers
 from collections.abc import Callable, Iterable
 from enum import IntFlag
@@ -36,6 +37,60 @@ __all__ = [
     "unsigned_int",
 ]
 
+
+
+def _real(value) -> bool:
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
+
+def non_negative(name: str) -> Callable[[Any], Any]:
+    """A property converter: a number must be >= 0 (infinity allowed, NaN not); other values
+    are left to the type check.
+
+    Raises (when the property is set):
+        ValueError: naming the property.
+    """
+
+    def convert(value):
+        if _real(value) and not value >= 0:
+            raise ValueError(f"{name} must be a number >= 0, got {value!r}")
+        return value
+
+    return convert
+
+
+def positive(name: str) -> Callable[[Any], Any]:
+    """A property converter: a number must be finite and > 0 (see :func:`non_negative`)."""
+
+    def convert(value):
+        if _real(value) and not (value > 0 and math.isfinite(value)):
+            raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
+        return value
+
+    return convert
+
+
+def finite(name: str, hint: str = "") -> Callable[[Any], Any]:
+    """A property converter: a number must be finite (``hint`` says what a value means)."""
+
+    def convert(value):
+        if _real(value) and not math.isfinite(value):
+            raise ValueError(f"{name} must be a finite number{hint}, got {value!r}")
+        return value
+
+    return convert
+
+
+def valid_message(name: str) -> Callable[[Any], Any]:
+    """A property converter: a message must hold its declared field types and finite numbers
+    (:func:`mtc.msgs.validate`), so a NaN pose is refused when set, not when planning."""
+
+    def convert(value):
+        if isinstance(value, msgs._Message):
+            msgs.validate(value, name)
+        return value
+
+    return convert
 
 
 def _not_none(value, what: str) -> None:
@@ -68,6 +123,24 @@ class PropertyInitializerSource(IntFlag):
     MANUAL = 1
     PARENT = 2
     INTERFACE = 4
+
+
+def _source(value) -> int:
+    """An initializer source: PropertyInitializerSource flags (PARENT, INTERFACE, OR-ed).
+
+    Raises:
+        TypeError: not an integer flag; ValueError: unknown bits.
+    """
+    if not isinstance(value, numbers.Integral) or isinstance(value, (bool, np.bool_)):
+        raise TypeError(
+            "the source must be Stage.PropertyInitializerSource.PARENT or INTERFACE (or both OR-ed), "
+            f"got {value!r}"
+        )
+    value = int(value)
+    if value & ~int(PropertyInitializerSource.MANUAL | PropertyInitializerSource.PARENT
+                    | PropertyInitializerSource.INTERFACE) or value < 0:
+        raise ValueError(f"unknown initializer source {value} (PARENT=2, INTERFACE=4, or both OR-ed)")
+    return value
 
 
 # initialized_from values: 0 = set() (manual, persistent), 1 = setCurrent() (manual, temporary),
@@ -183,6 +256,8 @@ def _coerce(value, declared):
         except (TypeError, ValueError):
             raise PropertyTypeError(_value_type_name(value), declared.name) from None
     types = declared if isinstance(declared, tuple) else (declared,)
+    if bool in types and isinstance(value, np.bool_):
+        return bool(value)  # (as pybind11's bool caster)
     is_bool = isinstance(value, bool)
     for t in types:
         # bool is an int in Python, but not a number for a numeric property (as pybind's casters)
@@ -399,7 +474,7 @@ class Property:
         Raises:
             PropertyError: Already configured for another source.
         """
-        source = int(source)
+        source = _source(source)
         if self._initializer is not None and self._source_flags != source:
             raise PropertyError("Property was already configured for initialization from another source id")
         if initializer is None:
@@ -558,6 +633,7 @@ class PropertyMap:
         Undeclared names are ignored, as in MTC. A single ``str`` is one name. (The keyword
         names are those of MTC's binding.)
         """
+        sources = _source(sources)
         if isinstance(names, str):
             names = [names]
         wanted = None if names is None else set(names)
@@ -671,6 +747,13 @@ class PropertyMap:
         for k, v in values.items():
             _not_none(v, f"update() of property '{k}'")
             self._check_convertible(k, v, f"update() of property '{k}'")
+            p = self._props.get(k)
+            if p is not None:  # (all values are checked before the first is set)
+                try:
+                    p._check(v)
+                except PropertyError as e:
+                    e.setName(k)
+                    raise
         for k, v in values.items():
             self.set(k, v)
 

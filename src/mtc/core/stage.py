@@ -35,6 +35,7 @@ from mtc.core.properties import (
     PropertyInitializerSource,
     PropertyMap,
     TypedPropertyAccess,
+    non_negative,
 )
 from mtc.core.storage import (
     Interface,
@@ -252,7 +253,7 @@ class Stage(TypedPropertyAccess):
         self._preempt = None  # shared flag object of the task
         self._init_done = False
         p = self._properties
-        p.declare("timeout", None, "timeout per run (s)", type=float)
+        p.declare("timeout", None, "timeout per run (s)", type=float, convert=non_negative("timeout"))
         p.declare("marker_ns", name, "marker namespace")
         p.declare("trajectory_execution_info", TrajectoryExecutionInfo(),
                   "settings used when executing the trajectory")

@@ -16,6 +16,7 @@ import threading
 import time
 from collections.abc import Callable
 
+from mtc import msgs
 from mtc.core.container import ContainerBase, SerialContainer, WrapperBase
 from mtc.core.properties import PropertyMap
 from mtc.core.stage import GENERATE, PreemptStageError, Stage
@@ -82,6 +83,12 @@ def _normalize_ns(ns: str) -> str:
     return re.sub(r"[^A-Za-z0-9_]", "_", ns[i:])
 
 
+
+def _flag(value, name: str) -> bool:
+    if not msgs.is_bool(value):
+        raise TypeError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
 class Task(WrapperBase):
     """The root of a stage tree: adds stages to its root container and plans.
 
@@ -106,7 +113,7 @@ class Task(WrapperBase):
         self._robot_model = None
         self._task_cbs: list[Callable] = []
         self._preempt_flag = _PreemptFlag()
-        self._introspection_enabled = bool(introspection)
+        self._introspection_enabled = _flag(introspection, "introspection")
         self._introspection_obj = None
         self._plan_lock = threading.Lock()
         self.setPruning(False)
@@ -179,10 +186,21 @@ class Task(WrapperBase):
 
     # --- robot model ---------------------------------------------------------------------
     def setRobotModel(self, robot_model) -> None:
-        """Use ``robot_model`` (a different model than before resets the task)."""
+        """Use ``robot_model`` (a different model than before resets the task).
+
+        Raises:
+            TypeError: not a ``mtc.RobotModel`` (None only logs an error, as in MTC).
+        """
         if robot_model is None:
             log.error("%s: received invalid robot model", self.name)
             return
+        from mtc.scene.robot_model import RobotModel
+
+        if not isinstance(robot_model, RobotModel):
+            raise TypeError(
+                f"setRobotModel takes a mtc.RobotModel (e.g. mtc.RobotModel(urdf, srdf) or mtc.robots.panda()), "
+                f"not {type(robot_model).__name__}"
+            )
         if self._robot_model is not None and self._robot_model is not robot_model:
             self.reset()  # solutions, scenes, etc. become invalid
         self._robot_model = robot_model
@@ -200,7 +218,7 @@ class Task(WrapperBase):
     # --- introspection -------------------------------------------------------------------
     def enableIntrospection(self, enable: bool = True) -> None:
         """Store failures from the next init on (and allow :meth:`introspection`)."""
-        self._introspection_enabled = bool(enable)
+        self._introspection_enabled = enable = _flag(enable, "enable")
         if not enable:
             self._introspection_obj = None
             for stage in self._allStages():

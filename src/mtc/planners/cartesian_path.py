@@ -22,6 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
+from mtc.core.properties import positive, valid_message
 from mtc.planners import ik
 from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult, to_pose_stamped
 from mtc.scene.frames import FrameError, resolve_ik_frame, rigid_inverse
@@ -81,8 +82,8 @@ class CartesianPath(PlannerInterface):
         super().__init__()
         p = self.properties
         p.declare("ik_frame", None, "frame to move linearly (use for joint-space target)",
-                  type=msgs.PoseStamped)
-        p.declare("step_size", 0.01, "step size between consecutive waypoints")
+                  type=msgs.PoseStamped, convert=valid_message("ik_frame"))
+        p.declare("step_size", 0.01, "step size between consecutive waypoints", convert=positive("step_size"))
         p.declare("precision", CartesianPrecision(), "precision of linear path")
         p.declare("min_fraction", 1.0, "fraction of motion required for success")
         p.declare("kinematics_options", None, "KinematicsQueryOptions")

@@ -13,6 +13,7 @@ import time
 import numpy as np
 
 from mtc import msgs
+from mtc.core.properties import positive
 from mtc.planners import ik
 from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult
 from mtc.scene.planning_scene import PlanningScene
@@ -47,7 +48,7 @@ class JointInterpolationPlanner(PlannerInterface):
 
     def __init__(self):
         super().__init__()
-        self.properties.declare("max_step", 0.1, "max joint step")
+        self.properties.declare("max_step", 0.1, "max joint step", convert=positive("max_step"))
         self.properties.declare("max_effort", None, "max effort", type=float)
 
     def plan(

@@ -292,6 +292,12 @@ def _result(success: bool, message: str = ""):
     return PlannerResult(success, message)
 
 
+def _invalid_constraints(e: Exception) -> str:
+    """The failure message of path constraints the robot or scene cannot evaluate."""
+    text = e.args[0] if isinstance(e, KeyError) and e.args else str(e)
+    return f"INVALID_GOAL_CONSTRAINTS: invalid path constraints: {text}"
+
+
 def _out_of_checks(max_checks: int, planner: str) -> str:
     return f"PLANNING_FAILED: no solution found in {max_checks} state checks ({planner})"
 
@@ -964,6 +970,8 @@ class OMPLPipeline:
         cls_name = resolve_planner_id(planner_id)
         self._check_args(timeout, attempts, goal_joint_tolerance, "goal_joint_tolerance")
         seed = _check_seed(seed)
+        if timeout == 0:
+            return self._no_time()
         if not isinstance(goal, RobotState):
             raise TypeError(f"goal must be a RobotState, not {type(goal).__name__}")
         req, failure = self._prepare(scene, start, group, timeout, path_constraints)
@@ -1027,6 +1035,8 @@ class OMPLPipeline:
         self._check_args(timeout, attempts, goal_position_tolerance, "goal_position_tolerance")
         seed = _check_seed(seed)
         self._check_args(timeout, attempts, goal_orientation_tolerance, "goal_orientation_tolerance")
+        if timeout == 0:
+            return self._no_time()
         offset = np.eye(4) if offset is None else np.asarray(offset, dtype=float)
         target = np.asarray(target, dtype=float)
         for name, T in (("offset", offset), ("target", target)):
@@ -1045,12 +1055,17 @@ class OMPLPipeline:
     # ------------------------------------------------------------------ preparation
     @staticmethod
     def _check_args(timeout, attempts, tolerance, tolerance_name) -> None:
-        if not (isinstance(timeout, (int, float, np.floating)) and timeout > 0):
-            raise ValueError(f"timeout must be > 0 [s], got {timeout!r}")
+        if not (isinstance(timeout, (int, float, np.floating)) and timeout >= 0):
+            raise ValueError(f"timeout must be >= 0 [s], got {timeout!r}")
         if not (isinstance(attempts, (int, np.integer)) and attempts >= 1):
             raise ValueError(f"attempts (num_planning_attempts) must be an integer >= 1, got {attempts!r}")
         if not (isinstance(tolerance, (int, float)) and tolerance >= 0):
             raise ValueError(f"{tolerance_name} must be >= 0, got {tolerance!r}")
+
+    def _no_time(self):
+        """The failure of a request with a timeout of 0 (as MoveIt's OMPL, which stops at once)."""
+        self.last_stats = PlanStats()
+        return self._fail(None, "TIMED_OUT: a timeout of 0 s leaves no time to plan")
 
     def _prepare(self, scene, start, group, timeout, path_constraints):
         t0 = time.perf_counter()
@@ -1071,7 +1086,10 @@ class OMPLPipeline:
             raise ValueError(f"group '{jmg.name}' has no active variables to plan for")
         idx = jmg.variable_indices
         lower, upper = self._group_bounds(model, idx)
-        constraints = KinematicConstraintSet(model, path_constraints)
+        try:
+            constraints = KinematicConstraintSet(model, path_constraints)
+        except (KeyError, ValueError) as e:  # (a failed request, as MoveIt's: not an exception)
+            return None, self._fail(None, _invalid_constraints(e))
         # joint constraints narrow the bounds the planner samples in (they are still checked)
         cont = model.continuous_mask[idx]
         free_turning = cont.copy()  # continuous joints no constraint narrows
@@ -1114,8 +1132,8 @@ class OMPLPipeline:
         model.enforce_mimic(base)
         try:
             evaluator = constraints.bind(scene) if not constraints.empty else None
-        except KeyError as e:
-            raise KeyError(f"path constraints: {e.args[0] if e.args else e}") from None
+        except (KeyError, ValueError) as e:
+            return None, self._fail(None, _invalid_constraints(e))
         checker = _EdgeChecker(scene, jmg, base, evaluator, self.resolution, self.search_ratio)
         req = _Request(
             scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0,

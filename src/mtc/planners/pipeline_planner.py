@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from mtc import msgs
-from mtc.core.properties import unsigned_int
+from mtc.core.properties import non_negative, unsigned_int
 from mtc.planners.planner_interface import PlannerInterface, PlannerResult
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_model import RobotModel
@@ -95,9 +95,12 @@ class PipelinePlanner(PlannerInterface):
         p.declare("planner", planner_id, "planner id")
         p.declare("num_planning_attempts", 1, "number of planning attempts", type=unsigned_int)
         p.declare("workspace_parameters", msgs.WorkspaceParameters(), "allowed workspace of mobile base?")
-        p.declare("goal_joint_tolerance", 1e-4, "tolerance for reaching joint goals")
-        p.declare("goal_position_tolerance", 1e-4, "tolerance for reaching position goals")
-        p.declare("goal_orientation_tolerance", 1e-4, "tolerance for reaching orientation goals")
+        p.declare("goal_joint_tolerance", 1e-4, "tolerance for reaching joint goals",
+                  convert=non_negative("goal_joint_tolerance"))
+        p.declare("goal_position_tolerance", 1e-4, "tolerance for reaching position goals",
+                  convert=non_negative("goal_position_tolerance"))
+        p.declare("goal_orientation_tolerance", 1e-4, "tolerance for reaching orientation goals",
+                  convert=non_negative("goal_orientation_tolerance"))
         p.declare("display_motion_plans", False, "publish generated solutions on topic display_planned_path")
         p.declare("publish_planning_requests", False, "publish motion planning requests on topic motion_plan_request")
         p.declare("seed", 0, "random seed of the planning requests")

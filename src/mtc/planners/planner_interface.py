@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtc import msgs
-from mtc.core.properties import PropertyMap, TypedPropertyAccess
+from mtc.core.properties import PropertyMap, TypedPropertyAccess, non_negative
 from mtc.planners.time_parameterization import (
     TimeOptimalTrajectoryGeneration,
     TimeParameterization,
@@ -66,15 +66,6 @@ def error_message(code: str, detail: str = "") -> str:
 def _scaling(name: str):
     def convert(value):
         check_scaling_factor(name, value)
-        return value
-
-    return convert
-
-
-def _non_negative(name: str):
-    def convert(value):
-        if isinstance(value, (int, float)) and not isinstance(value, bool) and value < 0:
-            raise ValueError(f"{name} must not be negative, got {value}")
         return value
 
     return convert
@@ -197,7 +188,7 @@ class PlannerInterface(TypedPropertyAccess, ABC):
         self._properties = self._newProperties()
         self._robot_model: RobotModel | None = None
         p = self._properties
-        p.declare("timeout", math.inf, "timeout for planner (s)", convert=_non_negative("timeout"))
+        p.declare("timeout", math.inf, "timeout for planner (s)", convert=non_negative("timeout"))
         p.declare(
             "max_velocity_scaling_factor", 1.0, "scale down max velocity by this factor",
             convert=_scaling("max_velocity_scaling_factor"),
@@ -208,7 +199,7 @@ class PlannerInterface(TypedPropertyAccess, ABC):
         )
         p.declare(
             "max_cartesian_speed", 0.0, "maximum Cartesian speed of the link [m/s] (0: no limit)",
-            convert=_non_negative("max_cartesian_speed"),
+            convert=non_negative("max_cartesian_speed"),
         )
         p.declare("cartesian_speed_limited_link", "", "link whose Cartesian speed is limited")
         p.declare(

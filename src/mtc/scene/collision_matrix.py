@@ -70,10 +70,11 @@ class AllowedCollisionMatrix:
         Each of ``first``/``second`` is a name or a list of names (all pairs are set).
         ``set_entry(name, allowed)`` sets every existing entry of ``name``.
         """
-        if allowed is None and isinstance(second, bool):
+        if allowed is None and msgs.is_bool(second):
             second, allowed = None, second
-        if not isinstance(allowed, bool):
+        if not msgs.is_bool(allowed):
             raise TypeError(f"allowed must be True or False, not {allowed!r}")
+        allowed = bool(allowed)
         firsts = self._names(first, "first")
         if second is None:
             for name in firsts:
@@ -111,8 +112,9 @@ class AllowedCollisionMatrix:
     def set_default_entry(self, name: str, allowed: bool) -> None:
         """Allow (True) or stop allowing (False) collisions of ``name`` with anything that has
         no explicit entry with it."""
-        if not isinstance(allowed, bool):
+        if not msgs.is_bool(allowed):
             raise TypeError(f"allowed must be True or False, not {allowed!r}")
+        allowed = bool(allowed)
         self._defaults[name] = allowed
         self._changed()
 

@@ -87,11 +87,15 @@ def _pose_stamped(pose, what: str) -> msgs.PoseStamped:
 
 def _primitive_object(name: str, pose, kind: int, dims: Iterable[float]) -> msgs.CollisionObject:
     ps = _pose_stamped(pose, f"object '{name}'")
+    try:
+        dims = [float(d) for d in dims]
+    except (TypeError, ValueError):
+        raise TypeError(f"object '{name}': the dimensions (size, height, radius) must be numbers, got {dims!r}") from None
     return msgs.CollisionObject(
         header=msgs.Header(frame_id=ps.header.frame_id),
         pose=ps.pose,
         id=name,
-        primitives=[msgs.SolidPrimitive(type=kind, dimensions=[float(d) for d in dims])],
+        primitives=[msgs.SolidPrimitive(type=kind, dimensions=dims)],
         primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))],
         operation=msgs.CollisionObject.ADD,
     )

@@ -116,7 +116,10 @@ def _primitive_geometry(prim: msgs.SolidPrimitive, object_id: str):
             "(BOX=1, SPHERE=2, CYLINDER=3, CONE=4)"
         )
     kind, count = _PRIMITIVE_DIMS[prim.type]
-    dims = [float(d) for d in prim.dimensions]
+    try:
+        dims = [float(d) for d in prim.dimensions]
+    except (TypeError, ValueError):
+        dims = []  # (not numbers: said below)
     if len(dims) != count or not all(np.isfinite(d) and d > 0 for d in dims):
         expected = {"box": "[x, y, z]", "sphere": "[radius]", "cylinder": "[height, radius]", "cone": "[height, radius]"}
         raise ValueError(
@@ -1215,6 +1218,8 @@ class PlanningScene:
         Raises:
             KeyError: unknown frame, naming the links and objects that exist.
         """
+        if not isinstance(frame, str):
+            raise TypeError(f"frame must be a frame name (str), not {type(frame).__name__}")
         frame = frame[1:] if frame.startswith("/") else frame  # (as MoveIt: a leading "/" is dropped)
         if frame == self.planning_frame or frame == "":
             return np.eye(4)

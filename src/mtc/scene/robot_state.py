@@ -121,7 +121,12 @@ class RobotState:
     def set_joint_group_positions(self, group: str, values) -> None:
         """Set the active variables of ``group`` (in the group's order)."""
         jmg = self._group(group)
-        values = np.asarray(values, dtype=float).ravel()
+        try:
+            values = np.asarray(values, dtype=float).ravel()
+        except (TypeError, ValueError):
+            raise TypeError(
+                f"group '{jmg.name}' positions must be {jmg.variable_count} numbers, got {values!r}"
+            ) from None
         if values.size != jmg.variable_count:
             raise ValueError(
                 f"group '{jmg.name}' has {jmg.variable_count} variables "
@@ -188,13 +193,21 @@ class RobotState:
     def distance(self, other: RobotState, group: str | None = None) -> float:
         """Sum of per-variable distances (continuous joints wrap), over the group's active
         variables or, without a group, all active variables (MoveIt's ``RobotState::distance``)."""
+        self._check_other(other, "distance")
         idx = self._group(group).variable_indices
         delta = self._q[idx] - other._q[idx]
         delta = shortest_delta(delta, self._model.continuous_mask[idx])
         return float(np.abs(delta).sum())
 
+    def _check_other(self, other, what: str) -> None:
+        if not isinstance(other, RobotState):
+            raise TypeError(f"{what}() takes another RobotState, not {type(other).__name__}")
+        if other._model is not self._model:
+            raise ValueError(f"{what}(): the other state belongs to robot '{other._model.name}', not '{self._model.name}'")
+
     def interpolate(self, other: RobotState, t: float, group: str | None = None) -> RobotState:
         """The state ``t`` of the way from this one to ``other`` (continuous joints the short way)."""
+        self._check_other(other, "interpolate")
         delta = shortest_delta(other._q - self._q, self._model.continuous_mask)
         q = self._q + t * delta
         if group:

@@ -8,6 +8,8 @@ gripper commands) belong to single waypoints, as in MoveIt's states.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from mtc import msgs
@@ -15,6 +17,21 @@ from mtc.scene.robot_model import JointModelGroup, RobotModel, unwrap_path
 from mtc.scene.robot_state import RobotState
 
 __all__ = ["RobotTrajectory"]
+
+
+def _check_dt(dt) -> float:
+    """A waypoint gap [s]: a finite number >= 0.
+
+    Raises:
+        ValueError: anything else (times would go backwards or be undefined).
+    """
+    try:
+        value = float(dt)
+    except (TypeError, ValueError):
+        raise TypeError(f"dt must be a number of seconds, got {dt!r}") from None
+    if not (math.isfinite(value) and value >= 0.0):
+        raise ValueError(f"dt must be a finite number of seconds >= 0, got {dt!r}")
+    return value
 
 
 class RobotTrajectory:
@@ -224,16 +241,20 @@ class RobotTrajectory:
         A state carries no velocities: the trajectory's are dropped (time it again)."""
         if not isinstance(state, RobotState):
             raise TypeError(f"waypoints must be RobotState, not {type(state).__name__}")
+        dt = _check_dt(dt)
         self.waypoints.append(state.copy())
-        self._durations.append(float(dt))
+        self._durations.append(dt)
         self.velocities = self.accelerations = None
         self._efforts.append(None)
 
     def add_prefix_waypoint(self, state: RobotState, dt: float = 0.0) -> None:
         """Insert a waypoint at the start; the old first waypoint follows it after ``dt``."""
+        if not isinstance(state, RobotState):
+            raise TypeError(f"waypoints must be RobotState, not {type(state).__name__}")
+        dt = _check_dt(dt)
         self.waypoints.insert(0, state.copy())
         if self._durations:
-            self._durations[0] = float(dt)
+            self._durations[0] = dt
         self._durations.insert(0, 0.0)
         self.velocities = self.accelerations = None
         self._efforts.insert(0, None)
@@ -246,6 +267,7 @@ class RobotTrajectory:
             return self
         if not isinstance(other, RobotTrajectory):
             raise TypeError(f"append takes a RobotTrajectory or RobotState, not {type(other).__name__}")
+        dt = _check_dt(dt)
         # as MoveIt's append(): the first appended waypoint keeps its own gap, plus dt
         durations = other._durations[start_index:]
         same = other.joint_names == self.joint_names

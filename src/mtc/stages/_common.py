@@ -191,7 +191,9 @@ def check_goal(goal):
     A dict is stored as a diff ``msgs.RobotState``, as MTC's ``setGoal(map)`` does.
 
     Raises:
-        TypeError: Not a str, dict, RobotState, PoseStamped or PointStamped (or bad dict items).
+        TypeError: Not a str, dict, RobotState, PoseStamped or PointStamped (or bad dict items,
+            or a message field of the wrong type).
+        ValueError: A NaN or infinite number in the message.
     """
     if isinstance(goal, dict):
         values = _check_joint_values(goal, "setGoal")
@@ -199,6 +201,8 @@ def check_goal(goal):
             joint_state=msgs.JointState(name=list(values), position=list(values.values())), is_diff=True
         )
     if isinstance(goal, _GOAL_TYPES):
+        if not isinstance(goal, str):
+            msgs.validate(goal, "setGoal")
         return goal
     raise TypeError(
         "setGoal() takes a named state (str), a dict joint -> value, a diff msgs.RobotState, "
@@ -267,11 +271,14 @@ def check_direction(direction):
     """Validate a ``MoveRelative.setDirection`` argument and return the property value.
 
     Raises:
-        TypeError: Not a TwistStamped, Vector3Stamped or dict joint -> delta.
+        TypeError: Not a TwistStamped, Vector3Stamped or dict joint -> delta (or a message
+            field of the wrong type).
+        ValueError: A NaN or infinite number in the message.
     """
     if isinstance(direction, dict):
         return _check_joint_values(direction, "setDirection")
     if isinstance(direction, (msgs.TwistStamped, msgs.Vector3Stamped)):
+        msgs.validate(direction, "setDirection")
         return direction
     raise TypeError(
         "setDirection() takes a msgs.TwistStamped, a msgs.Vector3Stamped or a dict joint -> delta, "

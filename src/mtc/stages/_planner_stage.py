@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from mtc import msgs
 from mtc.core.cost_terms import PathLength
+from mtc.core.properties import valid_message
 from mtc.core.stage import InitStageError, PropagatingEitherWay
 from mtc.core.storage import InterfaceState, SubTrajectory
 from mtc.stages._common import ik_frame_from_args
@@ -69,7 +70,7 @@ class PlannerStage(PropagatingEitherWay):
         p = self.properties
         p.property("timeout").setDefaultValue(1.0)
         p.declare("group", None, "name of planning group", type=str)
-        p.declare("ik_frame", None, ik_frame_description, type=msgs.PoseStamped)
+        p.declare("ik_frame", None, ik_frame_description, type=msgs.PoseStamped, convert=valid_message("ik_frame"))
 
     def _declare_path_constraints(self) -> None:
         # declared after the stage's own properties, in MTC's order

@@ -43,7 +43,7 @@ import numpy as np
 
 from mtc import msgs
 from mtc.core.container import WrapperBase
-from mtc.core.properties import unsigned_int
+from mtc.core.properties import unsigned_int, valid_message
 from mtc.core.stage import InitStageError, Stage
 from mtc.core.storage import InterfaceState, SolutionBase, SubTrajectory
 from mtc.scene.frames import rigid_inverse
@@ -123,8 +123,10 @@ class ComputeIK(WrapperBase):
         p.declare("min_solution_distance", 0.1,
                   "minimum distance between separate IK solutions for the same target", type=float)
         p.declare("constraints", msgs.Constraints(), "constraints to maintain during trajectory")
-        p.declare("ik_frame", None, "frame to be moved towards goal pose", type=msgs.PoseStamped)
-        p.declare("target_pose", None, "goal pose for ik frame", type=msgs.PoseStamped)
+        p.declare("ik_frame", None, "frame to be moved towards goal pose", type=msgs.PoseStamped,
+                  convert=valid_message("ik_frame"))
+        p.declare("target_pose", None, "goal pose for ik frame", type=msgs.PoseStamped,
+                  convert=valid_message("target_pose"))
         p.declare("seed", 0, "seed of the random IK restarts", type=int)
         p.declare("max_ik_attempts", 20, "IK descents (the first from the start state) per wanted solution",
                   type=unsigned_int)

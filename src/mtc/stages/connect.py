@@ -16,7 +16,7 @@ from mtc.core.container import MergeError, merge_trajectories, overlapping_joint
 from mtc.core.cost_terms import PathLength
 from mtc.core.stage import Connecting, InitStageError
 from mtc.core.storage import InterfaceState, SolutionSequence, SubTrajectory
-from mtc.planners.time_parameterization import TimeOptimalTrajectoryGeneration
+from mtc.planners.time_parameterization import TimeOptimalTrajectoryGeneration, TimeParameterization
 from mtc.stages._planner_stage import check_planner, init_planner, planner_message
 
 __all__ = ["Connect", "MergeMode"]
@@ -78,7 +78,7 @@ class Connect(Connecting):
         p.declare("max_distance", 1e-2, "maximally accepted distance between end and goal state")
         p.declare("path_constraints", msgs.Constraints(), "constraints to maintain during trajectory")
         p.declare("merge_time_parameterization", TimeOptimalTrajectoryGeneration(),
-                  "time parameterization of merged trajectories", type=None)
+                  "time parameterization of merged trajectories", type=TimeParameterization)
         self._merging = False
         self._planned_joints: set[str] = set()
 

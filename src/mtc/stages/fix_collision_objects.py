@@ -14,6 +14,7 @@ import numpy as np
 
 from mtc import msgs
 from mtc.core.cost_terms import Constant
+from mtc.core.properties import valid_message
 from mtc.core.stage import InitStageError, PropagatingEitherWay
 from mtc.core.storage import InterfaceState, SubTrajectory
 from mtc.stages._common import arrow_marker
@@ -44,7 +45,8 @@ class FixCollisionObjects(PropagatingEitherWay):
         self.setCostTerm(Constant(0.0))
         p = self.properties
         p.declare("max_penetration", None, "maximally corrected penetration depth (m)", type=float)
-        p.declare("direction", None, "direction vector to use for corrections", type=msgs.Vector3)
+        p.declare("direction", None, "direction vector to use for corrections", type=msgs.Vector3,
+                  convert=valid_message("direction"))
 
     def setMaxPenetration(self, penetration: float) -> None:
         """Set ``max_penetration`` [m]."""

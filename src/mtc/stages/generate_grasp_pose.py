@@ -20,6 +20,7 @@ import numbers
 import numpy as np
 
 from mtc import msgs
+from mtc.core.properties import finite
 from mtc.core.stage import InitStageError
 from mtc.core.storage import InterfaceState, SolutionBase, SubTrajectory
 from mtc.stages.generate_pose import GeneratePose, frame_marker, pose_stamped
@@ -88,6 +89,7 @@ def apply_eef_posture(state, robot_model, group: str, posture) -> None:
 
 def _check_axis(value):
     if isinstance(value, msgs.Vector3):
+        msgs.validate(value, "rotation_axis")
         v = (value.x, value.y, value.z)
     else:
         try:
@@ -96,6 +98,8 @@ def _check_axis(value):
             raise TypeError(f"rotation_axis must be a msgs.Vector3 or 3 numbers, got {type(value).__name__}") from None
         if len(v) != 3:
             raise TypeError(f"rotation_axis must have 3 components, got {len(v)}")
+        if not all(math.isfinite(x) for x in v):
+            raise ValueError(f"rotation_axis must be finite, got {v}")
     return msgs.Vector3(x=float(v[0]), y=float(v[1]), z=float(v[2]))
 
 
@@ -152,7 +156,7 @@ class GenerateGraspPose(GeneratePose):
         p = self.properties
         p.declare("eef", None, "name of end-effector", type=str)
         p.declare("object", None, "name of object to grasp", type=str)
-        p.declare("angle_delta", 0.1, "angular steps (rad)", type=float)
+        p.declare("angle_delta", 0.1, "angular steps (rad)", type=float, convert=finite("angle_delta", " (non-zero)"))
         p.declare("rotation_axis", msgs.Vector3(z=1.0), "rotate object pose about given axis",
                   type=msgs.Vector3, convert=_check_axis)
         p.declare("pregrasp", None, "pregrasp posture", convert=check_posture)

@@ -15,6 +15,7 @@ import numpy as np
 
 from mtc import msgs
 from mtc.core.cost_terms import Constant
+from mtc.core.properties import valid_message
 from mtc.core.stage import InitStageError, MonitoringGenerator
 from mtc.core.storage import InterfaceState, SolutionBase, SubTrajectory
 from mtc.stages import _common
@@ -83,7 +84,8 @@ class GeneratePose(MonitoringGenerator):
     def __init__(self, name: str = "generate pose"):
         super().__init__(name)
         self.setCostTerm(Constant(0.0))
-        self.properties.declare("pose", None, "target pose to pass on in spawned states", type=msgs.PoseStamped)
+        self.properties.declare("pose", None, "target pose to pass on in spawned states", type=msgs.PoseStamped,
+                                convert=valid_message("pose"))
         self._upstream = SolutionQueue()
 
     # subclasses that derive their poses from elsewhere (GenerateGraspPose) do not need ``pose``

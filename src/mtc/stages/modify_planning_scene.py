@@ -77,8 +77,9 @@ class ModifyPlanningScene(PropagatingEitherWay):
         names = _names(names, "object names")
         if not isinstance(attach_link, str) or not attach_link:
             raise InvalidNamesError(f"attach link must be a non-empty link name, got {attach_link!r}")
-        if not isinstance(attach, bool):
+        if not msgs.is_bool(attach):
             raise TypeError(f"attach must be True or False, got {attach!r}")
+        attach = bool(attach)
         self._attach_objects.append((names, attach_link, attach))
 
     def detachObjects(self, names, attach_link: str) -> None:
@@ -125,11 +126,12 @@ class ModifyPlanningScene(PropagatingEitherWay):
         Raises:
             TypeError/RuntimeError: Invalid names (None, numbers, dicts, ...).
         """
-        if isinstance(second, bool) and enable_collision is True:
+        if msgs.is_bool(second) and enable_collision is True:
             # allowCollisions(object, allow) written positionally
             second, enable_collision = None, second
-        if not isinstance(enable_collision, bool):
+        if not msgs.is_bool(enable_collision):
             raise TypeError(f"enable_collision must be True or False, got {enable_collision!r}")
+        enable_collision = bool(enable_collision)
         firsts = _names(first, "first")
         if second is None:
             self._collision_matrix_edits.append((firsts, None, enable_collision))

@@ -13,6 +13,7 @@ import logging
 import numpy as np
 
 from mtc import msgs
+from mtc.core.properties import finite
 from mtc.core.storage import Interface, InterfaceState, SubTrajectory
 from mtc.stages._common import (
     FrameError,
@@ -63,8 +64,10 @@ class MoveRelative(PlannerStage):
         super().__init__(name, planner, "frame to be moved in Cartesian direction")
         p = self.properties
         p.declare("direction", None, "motion specification")
-        p.declare("min_distance", -1.0, "minimum distance to move (m or rad)")
-        p.declare("max_distance", 0.0, "maximum distance to move (m or rad)")
+        p.declare("min_distance", -1.0, "minimum distance to move (m or rad)",
+                  convert=finite("min_distance", " (-1: none)"))
+        p.declare("max_distance", 0.0, "maximum distance to move (m or rad)",
+                  convert=finite("max_distance", " (0: no maximum)"))
         self._declare_path_constraints()
 
     # --- configuration ------------------------------------------------------------------

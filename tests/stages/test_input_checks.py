@@ -1,0 +1,227 @@
+"""Bad input is refused where it is given, naming what is wrong and what is allowed, and
+changes nothing; what only planning can tell becomes a failure with a comment (the s23 input
+audit's cases)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import mtc
+from mtc import core, msgs, stages
+from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_trajectory import RobotTrajectory
+
+NAN, INF = math.nan, math.inf
+
+
+# ---------------------------------------------------------------------------- numbers when set
+@pytest.mark.parametrize(
+    "make, name, bad, allowed",
+    [
+        (core.CartesianPath, "step_size", 0.0, "finite number > 0"),
+        (core.CartesianPath, "step_size", NAN, "finite number > 0"),
+        (core.JointInterpolationPlanner, "max_step", -0.1, "finite number > 0"),
+        (core.JointInterpolationPlanner, "max_step", INF, "finite number > 0"),
+        (core.PipelinePlanner, "goal_joint_tolerance", -1.0, "number >= 0"),
+        (core.PipelinePlanner, "goal_position_tolerance", NAN, "number >= 0"),
+        (core.PipelinePlanner, "goal_orientation_tolerance", -INF, "number >= 0"),
+        (core.PipelinePlanner, "timeout", NAN, "number >= 0"),
+        (core.JointInterpolationPlanner, "max_cartesian_speed", NAN, "number >= 0"),
+        (lambda: stages.MoveTo("m", core.JointInterpolationPlanner()), "timeout", -1.0, "number >= 0"),
+        (lambda: stages.MoveRelative("r", core.CartesianPath()), "max_distance", INF, "finite number (0: no maximum)"),
+        (lambda: stages.MoveRelative("r", core.CartesianPath()), "min_distance", NAN, "finite number (-1: none)"),
+        (lambda: stages.GenerateGraspPose("g"), "angle_delta", NAN, "finite number (non-zero)"),
+    ],
+)
+def test_numbers_out_of_range_are_refused_when_set(make, name, bad, allowed):
+    owner = make()
+    before = owner.properties.get(name, None)
+    with pytest.raises(ValueError, match=rf"{name} must be a {re_escape(allowed)}"):
+        setattr(owner, name, bad)
+    assert owner.properties.get(name, None) == before
+
+
+def re_escape(text: str) -> str:
+    import re
+
+    return re.escape(text)
+
+
+def test_a_stage_timeout_of_zero_fails_the_ompl_request_with_a_comment(make_task):
+    """No time at all is a failed request (TIMED_OUT), as MoveIt's OMPL gives, not an exception."""
+    move = stages.MoveTo("move", core.PipelinePlanner())
+    move.group = "panda_arm"
+    move.setGoal("extended")
+    move.timeout = 0.0
+    task = make_task(stages.CurrentState("current"), move)
+    assert not task.plan()
+    assert [f.comment for f in move.failures][0].startswith("TIMED_OUT")
+
+
+def test_bad_path_constraints_are_a_failure_and_keep_other_branches(make_task):
+    """Path constraints the robot cannot evaluate (unknown joint, NaN, unknown frame) fail the
+    OMPL request with INVALID_GOAL_CONSTRAINTS (as Pilz's), so an Alternatives sibling still
+    plans."""
+    def constrained(name, constraints):
+        stage = stages.MoveTo(name, core.PipelinePlanner())
+        stage.group = "panda_arm"
+        stage.setGoal("extended")
+        stage.path_constraints = constraints
+        return stage
+
+    unknown_joint = msgs.Constraints(joint_constraints=[msgs.JointConstraint(
+        joint_name="nope", position=0.0, tolerance_above=0.1, tolerance_below=0.1, weight=1.0)])
+    nan_tolerance = msgs.Constraints(joint_constraints=[msgs.JointConstraint(
+        joint_name="panda_joint1", position=0.0, tolerance_above=NAN, tolerance_below=0.1, weight=1.0)])
+    unknown_frame = msgs.Constraints(orientation_constraints=[msgs.OrientationConstraint(
+        header=msgs.Header(frame_id="nowhere"), link_name="panda_hand", orientation=msgs.Quaternion(w=1.0),
+        absolute_x_axis_tolerance=0.1, absolute_y_axis_tolerance=0.1, absolute_z_axis_tolerance=0.1, weight=1.0)])
+    good = stages.MoveTo("good", core.JointInterpolationPlanner())
+    good.group = "panda_arm"
+    good.setGoal("extended")
+    alternatives = core.Alternatives("alternatives")
+    bad = [constrained("joint", unknown_joint), constrained("nan", nan_tolerance), constrained("frame", unknown_frame)]
+    for stage in (*bad, good):
+        alternatives.insert(stage)
+    task = make_task(stages.CurrentState("current"), alternatives)
+    assert task.plan() and len(task.solutions) == 1
+    for stage, says in zip(bad, ("nope", "tolerance_above", "nowhere")):
+        comment = stage.failures[0].comment
+        assert comment.startswith("INVALID_GOAL_CONSTRAINTS: invalid path constraints:") and says in comment
+
+
+# ---------------------------------------------------------------------------- messages when set
+@pytest.mark.parametrize(
+    "goal, error, says",
+    [
+        (msgs.PointStamped(header=msgs.Header(frame_id="world"), point=msgs.Point(x=NAN)), ValueError,
+         "setGoal: PointStamped.point.x must be finite"),
+        (msgs.PoseStamped(header="world"), TypeError, "setGoal: PoseStamped.header must be a msgs.Header"),
+        (msgs.PoseStamped(pose=msgs.Pose(position=[0.4, 0.0, 0.4])), TypeError,
+         "setGoal: PoseStamped.pose.position must be a msgs.Point"),
+        (msgs.RobotState(joint_state={"panda_joint1": 0.1}), TypeError,
+         "setGoal: RobotState.joint_state must be a msgs.JointState"),
+    ],
+)
+def test_malformed_goal_messages_are_refused_when_set(goal, error, says):
+    move = stages.MoveTo("move", core.JointInterpolationPlanner())
+    with pytest.raises(error, match=re_escape(says)):
+        move.setGoal(goal)
+    assert move.properties.get("goal", None) is None
+
+
+def test_malformed_directions_and_poses_are_refused_when_set():
+    relative = stages.MoveRelative("r", core.CartesianPath())
+    with pytest.raises(ValueError, match=re_escape("setDirection: Vector3Stamped.vector.z must be finite")):
+        relative.setDirection(msgs.Vector3Stamped(header=msgs.Header(frame_id="world"), vector=msgs.Vector3(z=NAN)))
+    with pytest.raises(TypeError, match=re_escape("setDirection: Vector3Stamped.vector.z must be a number, got '0.05'")):
+        relative.setDirection(msgs.Vector3Stamped(header=msgs.Header(frame_id="world"), vector=msgs.Vector3(z="0.05")))
+    with pytest.raises(ValueError, match=re_escape("setDirection: TwistStamped.twist.angular.z must be finite")):
+        relative.setDirection(msgs.TwistStamped(twist=msgs.Twist(angular=msgs.Vector3(z=INF))))
+    pose = stages.GeneratePose("pose")
+    with pytest.raises(ValueError, match=re_escape("pose: PoseStamped.pose.position.x must be finite")):
+        pose.pose = msgs.PoseStamped(pose=msgs.Pose(position=msgs.Point(x=NAN)))
+    assert pose.properties.get("pose", None) is None
+    grasp = stages.GenerateGraspPose("grasp")
+    with pytest.raises(ValueError, match=re_escape("rotation_axis: Vector3.x must be finite")):
+        grasp.rotation_axis = msgs.Vector3(x=NAN, z=1.0)
+    with pytest.raises(ValueError, match="rotation_axis must be finite"):
+        grasp.rotation_axis = [0.0, INF, 1.0]
+    ik = stages.ComputeIK("ik", stages.GeneratePose("p"))
+    with pytest.raises(ValueError, match=re_escape("ik_frame: PoseStamped.pose.orientation.w must be finite")):
+        ik.ik_frame = msgs.PoseStamped(header=msgs.Header(frame_id="panda_link8"),
+                                       pose=msgs.Pose(orientation=msgs.Quaternion(w=NAN)))
+
+
+# ---------------------------------------------------------------------------- all or nothing
+def test_container_add_is_all_or_nothing():
+    serial = core.SerialContainer("s")
+    a, b = stages.NoOp("a"), stages.NoOp("b")
+    with pytest.raises(RuntimeError, match="invalid stage pointer"):
+        serial.add(a, b, None)
+    with pytest.raises(RuntimeError, match="two parents"):
+        serial.add(a, a)
+    assert len(serial) == 0 and a.parent is None
+    serial.add(a, b)
+    assert [c.name for c in serial] == ["a", "b"]
+    with pytest.raises(TypeError, match="before must be a child position"):
+        serial.insert(stages.NoOp("c"), 1.5)
+    with pytest.raises(TypeError, match="child must be a child position"):
+        serial.remove("0")
+    assert [c.name for c in serial] == ["a", "b"]
+    serial.insert(stages.NoOp("c"), np.int64(0))
+    assert [c.name for c in serial] == ["c", "a", "b"]
+
+
+def test_property_update_is_all_or_nothing():
+    move = stages.MoveTo("m", core.JointInterpolationPlanner())
+    with pytest.raises(core.PropertyError):
+        move.properties.update({"group": "panda_arm", "timeout": "bad"})
+    assert move.properties.get("group", None) is None
+
+
+def test_property_sources_are_checked():
+    move = stages.MoveTo("m", core.JointInterpolationPlanner())
+    with pytest.raises(TypeError, match="PropertyInitializerSource.PARENT or INTERFACE"):
+        move.properties.configureInitFrom("PARENT")
+    with pytest.raises(ValueError, match="unknown initializer source 99"):
+        move.properties.configureInitFrom(99, ["group"])
+    assert not move.properties.property("group").initsFrom(core.Stage.PropertyInitializerSource.PARENT)
+
+
+# ---------------------------------------------------------------------------- types
+def test_set_robot_model_takes_a_robot_model(make_task):
+    task = make_task(stages.CurrentState("current"))
+    assert task.plan()
+    with pytest.raises(TypeError, match="setRobotModel takes a mtc.RobotModel.*not str"):
+        task.setRobotModel("panda")
+    assert task.getRobotModel() is mtc.robots.panda() and len(task.solutions) == 1
+    with pytest.raises(TypeError, match="introspection must be True or False"):
+        core.Task(introspection="yes")
+
+
+def test_numpy_bools_are_bools(ready_scene):
+    """numpy's bools are taken wherever a bool is (as pybind11's caster takes them)."""
+    ik = stages.ComputeIK("ik", stages.GeneratePose("p"))
+    ik.ignore_collisions = np.bool_(True)
+    assert ik.properties.get("ignore_collisions") is True
+    modify = stages.ModifyPlanningScene("m")
+    modify.attachObjects("box", "panda_hand", np.bool_(True))
+    modify.allowCollisions("box", "panda_hand", np.bool_(False))
+    acm = ready_scene.allowed_collision_matrix
+    acm.set_entry("panda_link0", "panda_hand", np.bool_(True))
+    assert acm.get_entry("panda_link0", "panda_hand") is True
+    acm.set_default_entry("panda_hand", np.bool_(False))
+
+
+def test_merge_time_parameterization_is_a_time_parameterization():
+    connect = stages.Connect("c", [])
+    with pytest.raises(core.PropertyError, match="TimeParameterization"):
+        connect.merge_time_parameterization = "abc"
+
+
+def test_scene_state_and_trajectory_arguments(ready_scene, panda):
+    with pytest.raises(TypeError, match="frame must be a frame name"):
+        ready_scene.get_frame_transform(None)
+    state = ready_scene.current_state
+    with pytest.raises(TypeError, match="distance\\(\\) takes another RobotState"):
+        state.distance(None)
+    with pytest.raises(TypeError, match="group 'panda_arm' positions must be 7 numbers"):
+        state.set_joint_group_positions("panda_arm", ["a"] * 7)
+    psi = mtc.PlanningSceneInterface()
+    with pytest.raises(TypeError, match="object 'b': the dimensions .* must be numbers"):
+        psi.add_box("b", msgs.PoseStamped(header=msgs.Header(frame_id="world")), size=0.1)
+    with pytest.raises(ValueError, match="object 'b': a box needs 3 positive dimension"):
+        ready_scene.apply_collision_object(msgs.CollisionObject(
+            id="b", primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=["a", 1, 1])]))
+    traj = RobotTrajectory(panda, "panda_arm")
+    traj.add_suffix_waypoint(state)
+    for dt in (-1.0, NAN):
+        with pytest.raises(ValueError, match="dt must be a finite number of seconds >= 0"):
+            traj.add_suffix_waypoint(RobotState(panda), dt)
+        with pytest.raises(ValueError, match="dt must be a finite number of seconds >= 0"):
+            traj.append(traj.copy(), dt)
+    assert len(traj) == 1 and traj.duration == 0.0
