@@ -225,3 +225,21 @@ def test_scene_state_and_trajectory_arguments(ready_scene, panda):
         with pytest.raises(ValueError, match="dt must be a finite number of seconds >= 0"):
             traj.append(traj.copy(), dt)
     assert len(traj) == 1 and traj.duration == 0.0
+
+
+def test_compute_ik_constraints_the_robot_cannot_evaluate_are_a_failure(make_task):
+    """ComputeIK's constraints with an unknown joint fail the IK with a comment, not an exception."""
+    pose = stages.GeneratePose("pose")
+    pose.pose = msgs.PoseStamped(header=msgs.Header(frame_id="panda_link8"), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
+    current = stages.CurrentState("current")
+    pose.setMonitoredStage(current)
+    ik = stages.ComputeIK("ik", pose)
+    ik.group = "panda_arm"
+    ik.ik_frame = msgs.PoseStamped(header=msgs.Header(frame_id="panda_link8"))
+    ik.constraints = msgs.Constraints(joint_constraints=[msgs.JointConstraint(
+        joint_name="nope", position=0.0, tolerance_above=0.1, tolerance_below=0.1, weight=1.0)])
+    connect = stages.Connect("connect", [("panda_arm", core.JointInterpolationPlanner())])
+    task = make_task(current, connect, ik)
+    assert not task.plan()
+    comment = ik.failures[0].comment
+    assert comment.startswith("invalid constraints:") and "nope" in comment

@@ -328,7 +328,13 @@ class ComputeIK(WrapperBase):
                                         or constraints.orientation_constraints):
             from mtc.planners.constraints import KinematicConstraintSet
 
-            constraint_set = KinematicConstraintSet(model, constraints)
+            try:
+                constraint_set = KinematicConstraintSet(model, constraints)
+                constraint_set.bind(scene)  # (frames resolve in the scene: unknown ones fail here)
+            except (KeyError, ValueError) as e:
+                text = e.args[0] if isinstance(e, KeyError) and e.args else str(e)
+                self._fail(s, f"invalid constraints: {text}", markers=failed_markers)
+                return
 
         # 7. IK: the start state first, then random seeds; every distinct candidate is spawned
         min_distance = p.get("min_solution_distance")
