@@ -243,3 +243,11 @@ def test_compute_ik_constraints_the_robot_cannot_evaluate_are_a_failure(make_tas
     assert not task.plan()
     comment = ik.failures[0].comment
     assert comment.startswith("invalid constraints:") and "nope" in comment
+
+
+def test_solutions_are_indexed_by_position(make_task):
+    task = make_task(stages.CurrentState("current"))
+    assert task.plan()
+    assert task.solutions[np.int64(0)] is task.solutions[0]
+    with pytest.raises(TypeError, match="indexed by position"):
+        task.solutions["a"]

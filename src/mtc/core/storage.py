@@ -11,11 +11,14 @@ Solutions are :class:`SubTrajectory` (a leaf, possibly without trajectory),
 from __future__ import annotations
 
 import math
+import numbers
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable, Iterable
 from contextlib import contextmanager
 from enum import IntEnum
 from typing import Any
+
+import numpy as np
 
 from mtc.core.properties import PropertyMap
 
@@ -745,6 +748,8 @@ class Solutions:
     def __getitem__(self, index):
         if isinstance(index, slice):
             return self._items[index]
+        if not isinstance(index, numbers.Integral) or isinstance(index, (bool, np.bool_)):
+            raise TypeError(f"solutions are indexed by position (an integer) or a slice, not {index!r}")
         n = len(self._items)
         if not -n <= index < n:
             raise IndexError(f"solution index {index} out of range ({n} solutions)")
