@@ -516,8 +516,10 @@ def test_segment_input_errors_name_what_is_allowed():
         render_frames(model, 3, [0.0])
     with pytest.raises(TypeError, match="segment 0: start_scene must be a PlanningScene or None, not str"):
         render_frames(model, [(None, "scene", None)], [0.0])
-    with pytest.raises(ValueError, match="fps must be a positive number"):
-        render_frames(model, [], [0.0], fps=0)
+    for fps in (0, 1e5, float("nan"), True):
+        with pytest.raises(ValueError, match=r"fps must be a number of frames per second in \(0, 1000\]"):
+            render_frames(model, [], [0.0], fps=fps)
+    assert render_frames(model, [], [0.0], fps=np.float32(30.0)) is not None  # numpy numbers are numbers
     toy = RobotModel(os.path.join(os.path.dirname(__file__), "data", "toy_robot.urdf"))
     with pytest.raises(ValueError, match="segment 0's start_scene belongs to robot 'robot'"):
         render_frames(model, [Segment(None, PlanningScene(toy))], [0.0])

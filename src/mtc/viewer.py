@@ -26,6 +26,8 @@ import atexit
 import base64
 import functools
 import logging
+import math
+import numbers
 import os
 import selectors
 import subprocess
@@ -430,6 +432,22 @@ def _visual_links(model: RobotModel) -> list[str]:
     return links
 
 
+#: The highest frame rate an animation is sampled at [1/s] (each frame is a pose of every node).
+MAX_FPS = 1000.0
+
+
+def _check_fps(fps) -> float:
+    """A frame rate: a number in (0, :data:`MAX_FPS`].
+
+    Raises:
+        ValueError: anything else.
+    """
+    if not (isinstance(fps, numbers.Real) and not isinstance(fps, (bool, np.bool_))
+            and math.isfinite(fps) and 0 < fps <= MAX_FPS):
+        raise ValueError(f"fps must be a number of frames per second in (0, {MAX_FPS:g}], got {fps!r}")
+    return float(fps)
+
+
 def _build_animation(
     model: RobotModel,
     segments: list[Segment],
@@ -438,9 +456,8 @@ def _build_animation(
     nodes: _ObjectNodes,
     links: list[str],
 ) -> _Animation:
-    if not (isinstance(fps, (int, float)) and np.isfinite(fps) and fps > 0):
-        raise ValueError(f"fps must be a positive number of frames per second, got {fps!r}")
-    keys = _keys(model, segments, float(fps), scene)
+    fps = _check_fps(fps)
+    keys = _keys(model, segments, fps, scene)
     if not keys:
         return _Animation({}, 0.0, None)
     n = len(keys)
@@ -971,8 +988,7 @@ class Viewer:
     ):
         if not isinstance(robot_model, RobotModel):
             raise TypeError(f"Viewer needs a RobotModel, not {type(robot_model).__name__}")
-        if not (isinstance(fps, (int, float)) and np.isfinite(fps) and fps > 0):
-            raise ValueError(f"fps must be a positive number of frames per second, got {fps!r}")
+        fps = _check_fps(fps)
         if zmq_url is not None:
             _check_local_url(zmq_url)
         _import_meshcat()
@@ -1151,8 +1167,9 @@ class Viewer:
             The animation's duration [s].
         """
         segs = _as_segments(segments)
-        if not isinstance(repetitions, int) or repetitions < 1:
+        if not isinstance(repetitions, numbers.Integral) or isinstance(repetitions, (bool, np.bool_)) or repetitions < 1:
             raise ValueError(f"repetitions must be a positive integer, got {repetitions!r}")
+        repetitions = int(repetitions)
         self._require_open()
         fps = self.fps if fps is None else fps
         anim = _build_animation(self._model, segs, fps, self._scene, self._nodes, self._links)

@@ -251,3 +251,73 @@ def test_solutions_are_indexed_by_position(make_task):
     assert task.solutions[np.int64(0)] is task.solutions[0]
     with pytest.raises(TypeError, match="indexed by position"):
         task.solutions["a"]
+
+
+# ---------------------------------------------------------------------------- the second input audit
+def test_motion_setters_are_all_or_nothing():
+    """setApproachMotion & co. and setMinMaxDistance set everything or, on bad input, nothing."""
+    pick = stages.Pick(stages.GenerateGraspPose("grasp"))
+    approach = pick["approach object"]
+    before = approach.properties.get("direction", None), approach.min_distance
+    up = msgs.TwistStamped(header=msgs.Header(frame_id="world"), twist=msgs.Twist(linear=msgs.Vector3(z=1.0)))
+    with pytest.raises(ValueError, match="min_distance must be a finite number"):
+        pick.setApproachMotion(up, NAN, 0.1)
+    with pytest.raises(ValueError, match="max_distance must be a finite number"):
+        pick.setLiftMotion(up, 0.05, INF)
+    assert (approach.properties.get("direction", None), approach.min_distance) == before
+    relative = stages.MoveRelative("r", core.CartesianPath())
+    with pytest.raises(ValueError, match="max_distance"):
+        relative.setMinMaxDistance(0.1, INF)
+    assert (relative.min_distance, relative.max_distance) == (-1.0, 0.0)
+
+
+def test_fixed_cartesian_poses_refuse_a_nan_pose():
+    fixed = stages.FixedCartesianPoses("poses")
+    good = msgs.PoseStamped(header=msgs.Header(frame_id="world"), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
+    fixed.addPose(good)
+    with pytest.raises(ValueError, match=re_escape("poses[0]: PoseStamped.pose.position.y must be finite")):
+        fixed.addPose(msgs.PoseStamped(pose=msgs.Pose(position=msgs.Point(y=NAN))))
+    with pytest.raises(ValueError, match=re_escape("poses[1]: PoseStamped.pose.position.x must be finite")):
+        fixed.poses = [good, msgs.PoseStamped(pose=msgs.Pose(position=msgs.Point(x=INF)))]
+    assert len(fixed.poses) == 1
+
+
+def _moved(make_task, term):
+    move = stages.MoveTo("move", core.JointInterpolationPlanner())
+    move.group = "panda_arm"
+    move.setGoal("extended")
+    move.setCostTerm(term)
+    task = make_task(stages.CurrentState("current"), move)
+    return task, move
+
+
+def test_cost_term_problems(make_task, caplog):
+    """A NaN cost is a failure that says so; weights and references are numbers when built;
+    PathLength's unknown joints are left out as in MTC, with an error logged; a reference
+    joint the robot lacks is a failure that names it."""
+    task, move = _moved(make_task, lambda solution: NAN)
+    assert not task.plan()
+    assert move.failures[0].comment == "cost term LambdaCostTerm returned NaN"
+    with pytest.raises(ValueError, match="Constant's cost must be a number, got nan"):
+        core.Constant(NAN)
+    with pytest.raises(ValueError, match="PathLength weight of joint 'panda_joint1' must be a finite number"):
+        core.PathLength({"panda_joint1": NAN})
+    with pytest.raises(TypeError, match="DistanceToReference reference of joint 'panda_joint1' must be a number"):
+        core.DistanceToReference({"panda_joint1": "a"})
+    with pytest.raises(ValueError, match="2 joint names but 1 positions"):
+        core.DistanceToReference(msgs.RobotState(joint_state=msgs.JointState(name=["a", "b"], position=[0.0])))
+    task, move = _moved(make_task, core.PathLength(["panda_jiont2", "panda_joint2"]))
+    with caplog.at_level("ERROR", logger="mtc.core.cost_terms"):
+        assert task.plan()
+    assert "PathLength: unknown joint(s) 'panda_jiont2'" in caplog.text
+    assert task.solutions[0].cost > 0  # the known joint counts
+    task, move = _moved(make_task, core.DistanceToReference({"nope": 0.0}))
+    assert not task.plan()
+    assert move.failures[0].comment.startswith("DistanceToReference reference: unknown joint(s) 'nope'")
+
+
+def test_an_empty_name_is_no_frame(ready_scene):
+    """As MoveIt: "" is no frame for knows_frame_transform (headers still read it as the
+    planning frame)."""
+    assert not ready_scene.knows_frame_transform("")
+    np.testing.assert_array_equal(ready_scene.get_frame_transform(""), np.eye(4))

@@ -15,7 +15,9 @@ a failure.
 from __future__ import annotations
 
 import inspect
+import logging
 import math
+import numbers
 from collections.abc import Callable, Mapping, Sequence
 from enum import IntEnum
 
@@ -41,17 +43,68 @@ __all__ = [
 INF = math.inf
 
 
+log = logging.getLogger(__name__)
+
+def _number(value, what: str, finite: bool = True) -> float:
+    """``value`` as a float: a number, not NaN (nor infinite with ``finite``).
+
+    Raises:
+        TypeError: not a number; ValueError: NaN or (``finite``) infinite; both naming ``what``.
+    """
+    if not isinstance(value, numbers.Real) or isinstance(value, (bool, np.bool_)):
+        raise TypeError(f"{what} must be a number, got {value!r}")
+    value = float(value)
+    if value != value or (finite and not math.isfinite(value)):
+        raise ValueError(f"{what} must be a {'finite ' if finite else ''}number, got {value!r}")
+    return value
+
+
+def _joint_numbers(values, what: str) -> dict[str, float]:
+    """``{joint: number}`` from a mapping (a cost term's weights or reference), checked."""
+    if not isinstance(values, Mapping):
+        raise TypeError(f"{what} must be a dict joint -> number, got {type(values).__name__}")
+    out = {}
+    for k, v in values.items():
+        if not isinstance(k, str):
+            raise TypeError(f"{what}: joint names must be strings, got {k!r}")
+        out[k] = _number(v, f"{what} of joint '{k}'")
+    return out
+
+
+def _unknown_joints(model, names, what: str) -> str:
+    """A text naming the joints of ``names`` the robot does not have ("" if none)."""
+    unknown = [n for n in names if n not in model._var_index]
+    if not unknown:
+        return ""
+    return (f"{what}: unknown joint(s) {', '.join(repr(n) for n in unknown)} "
+            f"(joints of robot '{model.name}': {', '.join(model.variable_names)})")
+
+
+def _known_weights(term, weights: dict[str, float], model, what: str) -> list[str]:
+    """The names of ``weights`` the robot has. As MTC, weights of other joints are left out;
+    as MoveIt's lookup of them, that is logged as an error (once per term and robot)."""
+    unknown = _unknown_joints(model, weights, what)
+    if unknown:
+        logged = term.__dict__.setdefault("_logged_unknown", set())
+        if id(model) not in logged:
+            logged.add(id(model))
+            log.error("%s; they are left out", unknown)
+        return [n for n in weights if n in model._var_index]
+    return list(weights)
+
+
 def _normalize(result) -> tuple[float, str]:
-    """Accept ``cost`` or ``(cost, comment)`` from a cost term."""
+    """Accept ``cost`` or ``(cost, comment)`` from a cost term (a cost is a number, not a
+    string that reads as one)."""
+    comment = ""
     if isinstance(result, tuple):
         if len(result) != 2:
             raise TypeError(f"a cost term returns a cost or a (cost, comment) pair, got {result!r}")
-        cost, comment = result
-        return float(cost), "" if comment is None else str(comment)
-    try:
-        return float(result), ""
-    except (TypeError, ValueError):
-        raise TypeError(f"a cost term returns a cost or a (cost, comment) pair, got {result!r}") from None
+        result, comment = result
+        comment = "" if comment is None else str(comment)
+    if not isinstance(result, (numbers.Real, np.bool_)):
+        raise TypeError(f"a cost term returns a cost (a number) or a (cost, comment) pair, got {result!r}")
+    return float(result), comment
 
 
 class CostTerm:
@@ -150,7 +203,7 @@ class Constant(CostTerm):
     """The same cost for every solution kind (no summing over sequences)."""
 
     def __init__(self, cost: float = 0.0):
-        self.cost = float(cost)
+        self.cost = _number(cost, "Constant's cost", finite=False)
 
     def __call__(self, solution):
         return self.cost
@@ -194,18 +247,22 @@ class PathLength(TrajectoryCostTerm):
 
     Args:
         joints: None (all joints, ``RobotState.distance``), a list of joint names
-            (weight 1 each) or a dict joint -> weight. Unknown joints are ignored.
+            (weight 1 each) or a dict joint -> weight. Joints the robot does not have are left
+            out, as in MTC (logged as an error).
+
+    Raises:
+        TypeError, ValueError: a name that is no string, a weight that is no finite number.
     """
 
     def __init__(self, joints: Sequence[str] | Mapping[str, float] | None = None):
         if joints is None:
             self.joints: dict[str, float] = {}
         elif isinstance(joints, Mapping):
-            self.joints = {str(k): float(v) for k, v in joints.items()}
+            self.joints = _joint_numbers(joints, "PathLength weight")
         elif isinstance(joints, str):
             self.joints = {joints: 1.0}
         else:
-            self.joints = {str(k): 1.0 for k in joints}
+            self.joints = _joint_numbers({k: 1.0 for k in joints}, "PathLength weight")
 
     def __call__(self, solution):
         traj = solution.trajectory
@@ -215,7 +272,7 @@ class PathLength(TrajectoryCostTerm):
         if not self.joints:
             return float(sum(wps[i - 1].distance(wps[i]) for i in range(1, len(wps))))
         model = wps[0].robot_model
-        names = [n for n in self.joints if n in model.variable_names]
+        names = _known_weights(self, self.joints, model, "PathLength")
         if not names:
             return 0.0
         w = np.array([self.joints[n] for n in names])
@@ -234,23 +291,27 @@ class DistanceToReference(TrajectoryCostTerm):
 
     def __init__(self, reference, mode=TrajectoryCostTerm.Mode.AUTO, weights: Mapping[str, float] | None = None):
         if isinstance(reference, Mapping):
-            self.reference = {str(k): float(v) for k, v in reference.items()}
+            self.reference = _joint_numbers(reference, "DistanceToReference reference")
         elif hasattr(reference, "joint_state"):
             js = reference.joint_state
-            self.reference = {str(n): float(v) for n, v in zip(js.name, js.position)}
+            if len(js.name) != len(js.position):
+                raise ValueError(
+                    f"DistanceToReference reference: {len(js.name)} joint names but {len(js.position)} positions"
+                )
+            self.reference = _joint_numbers(dict(zip(js.name, js.position)), "DistanceToReference reference")
         else:
             raise TypeError(
                 "DistanceToReference expects a dict joint -> value or a RobotState message, "
                 f"got {type(reference).__name__}"
             )
         self.mode = TrajectoryCostTerm.Mode(mode)
-        self.weights = {str(k): float(v) for k, v in (weights or {}).items()}
+        self.weights = _joint_numbers(weights if weights is not None else {}, "DistanceToReference weight")
 
     def _distance(self, ref_state, state) -> float:
         if not self.weights:
             return float(ref_state.distance(state))
         model = state.robot_model
-        names = [n for n in self.weights if n in model.variable_names]
+        names = _known_weights(self, self.weights, model, "DistanceToReference weights")
         if not names:
             return 0.0
         w = np.array([self.weights[n] for n in names])
@@ -261,6 +322,10 @@ class DistanceToReference(TrajectoryCostTerm):
         use_end = mode == TrajectoryCostTerm.Mode.END_INTERFACE
         interface_state = solution.end if use_end else solution.start
         ref = interface_state.scene.current_state.copy()
+        # (MTC raises out of planning here: a failure that names them instead)
+        unknown = _unknown_joints(ref.robot_model, self.reference, "DistanceToReference reference")
+        if unknown:
+            return INF, unknown
         ref.set_variable_positions(self.reference)
         traj = solution.trajectory
         if mode in (TrajectoryCostTerm.Mode.START_INTERFACE, TrajectoryCostTerm.Mode.END_INTERFACE) or (

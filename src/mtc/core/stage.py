@@ -585,6 +585,8 @@ class Stage(TypedPropertyAccess):
             solution._start = None
             solution._end = None
             solution._creator = None
+        if cost != cost and not comment:  # NaN: a failure, which says where it came from
+            comment = f"cost term {type(term).__name__} returned NaN"
         solution._cost = cost
         if comment:
             solution._comment = f"{solution._comment} ({comment})" if solution._comment else comment

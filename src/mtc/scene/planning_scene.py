@@ -1243,6 +1243,11 @@ class PlanningScene:
         )
 
     def knows_frame_transform(self, frame: str) -> bool:
+        """Whether ``frame`` names a link, object or subframe (or the planning frame); an empty
+        name is no frame, as in MoveIt (:meth:`get_frame_transform` reads it as the planning
+        frame, as headers do)."""
+        if frame == "":
+            return False
         try:
             self.get_frame_transform(frame)
         except KeyError:

@@ -28,6 +28,7 @@ def _check_poses(value):
     for i, pose in enumerate(poses):
         if not isinstance(pose, msgs.PoseStamped):
             raise TypeError(f"poses[{i}] must be a msgs.PoseStamped, got {type(pose).__name__}")
+        msgs.validate(pose, f"poses[{i}]")  # (a NaN pose is refused here, not when planning)
     return poses  # (the property keeps a copy)
 
 

@@ -80,9 +80,8 @@ class MoveRelative(PlannerStage):
         self.properties.set("max_distance", distance)
 
     def setMinMaxDistance(self, min_distance: float, max_distance: float) -> None:
-        """Set ``min_distance`` and ``max_distance``."""
-        self.setMinDistance(min_distance)
-        self.setMaxDistance(max_distance)
+        """Set ``min_distance`` and ``max_distance`` (both or, on bad input, neither)."""
+        self.properties.update({"min_distance": min_distance, "max_distance": max_distance})
 
     def setDirection(self, direction=None, *, twist=None, joint_deltas=None) -> None:
         """Set the motion: ``TwistStamped``, ``Vector3Stamped`` or ``{joint: delta}`` (by

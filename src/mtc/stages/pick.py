@@ -20,7 +20,7 @@ from __future__ import annotations
 from mtc import msgs
 from mtc.core.container import SerialContainer
 from mtc.core.stage import InitStageError, Stage
-from mtc.stages._common import one_argument
+from mtc.stages._common import check_direction, one_argument
 from mtc.stages.move_relative import MoveRelative
 
 __all__ = ["PickPlaceBase", "Pick", "Place"]
@@ -122,8 +122,10 @@ class PickPlaceBase(SerialContainer):
             )
         if min_distance is None or max_distance is None:
             raise TypeError(f"{what}(twist, min_distance, max_distance): both distances are required")
-        stage.setDirection(motion)
-        stage.setMinMaxDistance(min_distance, max_distance)
+        # all three or, on bad input, none
+        stage.properties.update(
+            {"direction": check_direction(motion), "min_distance": min_distance, "max_distance": max_distance}
+        )
 
     def setApproachRetract(self, motion, min_distance: float | None = None, max_distance: float | None = None) -> None:
         """The approach (Pick) or retract (Place) motion: ``(TwistStamped, min [m], max [m])``
