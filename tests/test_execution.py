@@ -183,6 +183,9 @@ def test_bad_arguments(panda_task):
     loose = core.SubTrajectory()
     with pytest.raises(ValueError, match="segment 0 .*no start/end state"):
         execute(loose)
+    for bad in (-1.0, math.nan, "x"):
+        with pytest.raises(ValueError, match="start_tolerance must be None .* or a number >= 0"):
+            execute(solution, start_tolerance=bad)
 
 
 def test_flatten_orders_nested_solutions():
@@ -221,6 +224,22 @@ def test_execute_mockup_task_sets_toy_scene():
     scene = mtc.current_scene()
     assert scene.robot_model is mockups.toy_model()
     assert scene is not leaves[-1].end.scene
+
+
+def test_executing_another_robots_solution_says_what_it_replaces(caplog):
+    """A solution of another robot than the current scene's replaces the current scene, and the
+    warning names the objects that are left behind (as current_scene(model) does)."""
+    mtc.reset_current_scene()
+    mtc.current_scene().apply_collision_object(_box_msg())
+    task = mockups.make_task()
+    task.add(mockups.GeneratorMockup([1.0]))
+    task.add(mockups.ForwardMockup([2.0]))
+    assert task.plan()
+    with caplog.at_level("WARNING", logger="mtc.core.execution"):
+        assert execute(task.solutions[0])
+    assert "not the current scene's 'panda'" in caplog.text and _box_msg().id in caplog.text
+    assert mtc.current_scene().robot_model is mockups.toy_model()
+    mtc.reset_current_scene()
 
 
 def test_publish_without_viewer_is_quiet(panda_task, monkeypatch):

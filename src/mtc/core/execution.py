@@ -15,6 +15,7 @@ last finished segment, so a script can re-plan from there.
 from __future__ import annotations
 
 import logging
+import numbers
 import threading
 from collections.abc import Callable
 from typing import Any
@@ -109,6 +110,13 @@ def _play(leaf: SubTrajectory) -> None:
 
     live, start, end = current_scene(), leaf.start.scene, leaf.end.scene
     if live.robot_model is not end.robot_model:
+        objects = live.world_object_names + live.attached_object_names
+        if objects:  # (as current_scene(model) says when it starts a scene for another robot)
+            log.warning(
+                "execute: the solution is for robot '%s', not the current scene's '%s': its scene replaces the "
+                "current one, whose objects (%s) are not in it", end.robot_model.name, live.robot_model.name,
+                ", ".join(objects),
+            )
         set_current_scene(end.copy())  # (a copy: later edits must not reach the task's scenes)
         return
     live._apply_changes(start, end)
@@ -149,7 +157,8 @@ def execute(
 
     Raises:
         TypeError: ``solution`` is not a solution or ``preempt``/``callback`` have wrong types.
-        ValueError: ``solution`` is a failure, or a segment is not connected to states.
+        ValueError: ``solution`` is a failure, a segment is not connected to states, or
+            ``start_tolerance`` is not None or a number >= 0.
     """
     from mtc.scene.current_scene import current_scene
 
@@ -162,6 +171,10 @@ def execute(
             f"callback must be callable as callback(sub_trajectory, index, count), not {type(callback).__name__}"
         )
     _check_preempt_arg(preempt)
+    if start_tolerance is not None and not (
+        isinstance(start_tolerance, numbers.Real) and not isinstance(start_tolerance, bool) and start_tolerance >= 0
+    ):
+        raise ValueError(f"start_tolerance must be None (no check) or a number >= 0 [rad/m], got {start_tolerance!r}")
     leaves = flatten(solution)
     for i, leaf in enumerate(leaves):
         if leaf.end is None or leaf.start is None:
