@@ -321,3 +321,18 @@ def test_an_empty_name_is_no_frame(ready_scene):
     planning frame)."""
     assert not ready_scene.knows_frame_transform("")
     np.testing.assert_array_equal(ready_scene.get_frame_transform(""), np.eye(4))
+
+
+def test_random_pose_dimensions_and_samplers():
+    """sample_dimension takes numpy numbers and integer dimensions only; a sampler's result must
+    be a finite number (the error names the dimension)."""
+    random = stages.GenerateRandomPose("random")
+    random.sample_dimension(stages.PoseDimension.Y, np.float32(0.1))
+    random.sample_dimension(np.int64(2), 0.1)
+    for bad in (2.7, "3", True):
+        with pytest.raises(ValueError, match="unknown pose dimension"):
+            random.sample_dimension(bad, 0.1)
+    random.sample_dimension(stages.PoseDimension.X, lambda rng: NAN)
+    sampler = random._samplers[-1][1]
+    with pytest.raises(ValueError, match="the sampler of dimension X must return a finite number, got nan"):
+        sampler(np.random.default_rng(0))

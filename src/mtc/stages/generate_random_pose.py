@@ -18,6 +18,7 @@ Fixes and additions to MTC:
 from __future__ import annotations
 
 import math
+import numbers
 import time
 from collections.abc import Callable
 from enum import IntEnum
@@ -111,6 +112,8 @@ class GenerateRandomPose(GeneratePose):
             TypeError: ``width`` is neither a number nor a callable.
         """
         try:
+            if not isinstance(dimension, numbers.Integral) or isinstance(dimension, (bool, np.bool_)):
+                raise TypeError
             dim = PoseDimension(int(dimension))
         except (ValueError, TypeError):
             raise ValueError(
@@ -118,9 +121,14 @@ class GenerateRandomPose(GeneratePose):
             ) from None
         if callable(width):
             fn = width
-            sampler = lambda rng: float(fn(rng))  # noqa: E731
+
+            def sampler(rng, fn=fn, dim=dim):
+                value = fn(rng)
+                if not (isinstance(value, numbers.Real) and math.isfinite(value)):
+                    raise ValueError(f"the sampler of dimension {dim.name} must return a finite number, got {value!r}")
+                return float(value)
         else:
-            if isinstance(width, bool) or not isinstance(width, (int, float)):
+            if not isinstance(width, numbers.Real) or isinstance(width, (bool, np.bool_)):
                 raise TypeError(f"width must be a number or a callable f(rng) -> deviation, got {type(width).__name__}")
             width = float(width)
             if not math.isfinite(width) or width < 0.0:
