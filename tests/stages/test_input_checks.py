@@ -336,3 +336,14 @@ def test_random_pose_dimensions_and_samplers():
     sampler = random._samplers[-1][1]
     with pytest.raises(ValueError, match="the sampler of dimension X must return a finite number, got nan"):
         sampler(np.random.default_rng(0))
+
+
+def test_a_multi_planner_cannot_hold_itself():
+    outer, inner = core.MultiPlanner(), core.MultiPlanner()
+    outer.add(inner)
+    for bad in (outer, core.MultiPlanner()):
+        if bad is not outer:
+            bad.add(outer)
+        with pytest.raises(ValueError, match="cannot hold itself"):
+            (inner if bad is outer else outer).add(bad)
+    assert len(inner) == 0 and outer[np.int64(0)] is inner

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numbers
 import time
 
 import numpy as np
@@ -34,11 +35,18 @@ class MultiPlanner(PlannerInterface):
 
         Raises:
             TypeError: an item is not a PlannerInterface.
+            ValueError: an item is this MultiPlanner or holds it (it would try itself forever).
         """
         for p in planners:
             if not isinstance(p, PlannerInterface):
                 raise TypeError(f"MultiPlanner holds PlannerInterface objects, not {type(p).__name__}")
+            if p is self or (isinstance(p, MultiPlanner) and p._holds(self)):
+                raise ValueError("a MultiPlanner cannot hold itself")
         self._planners.extend(planners)
+
+    def _holds(self, planner: PlannerInterface) -> bool:
+        """Whether ``planner`` is among this one's planners, at any depth."""
+        return any(p is planner or (isinstance(p, MultiPlanner) and p._holds(planner)) for p in self._planners)
 
     def clear(self) -> None:
         """Remove all planners."""
@@ -49,11 +57,11 @@ class MultiPlanner(PlannerInterface):
 
     def __getitem__(self, index: int) -> PlannerInterface:
         n = len(self._planners)
-        if not isinstance(index, int):
+        if not isinstance(index, numbers.Integral) or isinstance(index, bool):
             raise TypeError(f"MultiPlanner indices must be integers, not {type(index).__name__}")
         if not -n <= index < n:
             raise IndexError(f"planner index {index} out of range (MultiPlanner holds {n})")
-        return self._planners[index]
+        return self._planners[int(index)]
 
     def __iter__(self):
         return iter(list(self._planners))
