@@ -347,3 +347,13 @@ def test_a_multi_planner_cannot_hold_itself():
         with pytest.raises(ValueError, match="cannot hold itself"):
             (inner if bad is outer else outer).add(bad)
     assert len(inner) == 0 and outer[np.int64(0)] is inner
+
+
+def test_a_grasp_stage_with_a_parent_is_refused_unchanged():
+    for make in (stages.Pick, stages.SimpleGrasp):
+        generator = stages.GenerateGraspPose("grasp")
+        core.SerialContainer("holder").add(generator)
+        with pytest.raises(RuntimeError, match="two parents"):
+            make(generator)
+        assert not generator.properties.property("eef").initsFrom(core.Stage.PropertyInitializerSource.PARENT)
+        assert generator.forwardedProperties() == set()

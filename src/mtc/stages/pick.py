@@ -73,6 +73,7 @@ class PickPlaceBase(SerialContainer):
                 raise TypeError(
                     f"{type(self).__name__}: the grasp stage must be a Stage, got {type(grasp_stage).__name__}"
                 )
+            self._check_child(grasp_stage)  # (before it is configured: a refused stage stays as it was)
             grasp_stage.properties.configureInitFrom(Stage.PARENT, ["eef", "object"])
             self.insert(grasp_stage, position)
 
