@@ -770,8 +770,8 @@ def test_messages_in_untyped_fields_round_trip():
     pose.pose.position.x = 0.5
     info = SolutionInfo(id=3, markers=[{"name": "frame", "pose": pose, "points": [pose.pose.position, 1.0]}, "text"])
     data = to_dict(info)
-    assert data["markers"][0]["pose"]["_msg"] == "PoseStamped" and "_msg" not in data["markers"][0]["pose"]["header"]
+    assert data["markers"][0]["pose"]["__msg__"] == "PoseStamped" and "__msg__" not in data["markers"][0]["pose"]["header"]
     back = from_dict(SolutionInfo, json.loads(json.dumps(data)))
     assert back == info
     assert isinstance(back.markers[0]["pose"], PoseStamped) and isinstance(back.markers[0]["points"][0], Point)
-    assert "_msg" not in to_dict(pose)
+    assert "__msg__" not in to_dict(pose)

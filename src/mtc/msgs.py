@@ -1102,16 +1102,18 @@ def _validate(value: Any, hint: Any, what: str, path: str, finite: bool) -> None
     if hint is Any:
         return
     if hint is float or hint is int:
-        if not isinstance(value, numbers.Real) or isinstance(value, (bool, np.bool_)) or (
-            hint is int and not isinstance(value, numbers.Integral)
-        ):
-            raise TypeError(f"{what}: {path} must be a number, got {value!r}")
+        if not is_number(value, integral=hint is int):
+            raise TypeError(f"{what}: {path} must be {'an integer' if hint is int else 'a number'}, got {value!r}")
         if finite and not math.isfinite(value):
             raise ValueError(f"{what}: {path} must be finite, got {value!r}")
         return
-    if hint is str or hint is bool:
-        if not (isinstance(value, str) if hint is str else is_bool(value)):
-            raise TypeError(f"{what}: {path} must be a {hint.__name__}, got {value!r}")
+    if hint is str:
+        if not isinstance(value, str):
+            raise TypeError(f"{what}: {path} must be a str, got {value!r}")
+        return
+    if hint is bool:  # (0 and 1 too, as Python's ROS messages take them)
+        if not (is_bool(value) or (is_number(value, integral=True) and value in (0, 1))):
+            raise TypeError(f"{what}: {path} must be True or False, got {value!r}")
         return
     if typing.get_origin(hint) is list:
         if not isinstance(value, (list, tuple)):
@@ -1132,6 +1134,12 @@ def is_bool(value: Any) -> bool:
     """Whether ``value`` is True or False: a Python bool or a numpy one (as pybind11's bool
     caster takes both)."""
     return isinstance(value, (bool, np.bool_))
+
+
+def is_number(value: Any, integral: bool = False) -> bool:
+    """Whether ``value`` is a real number (an integer with ``integral``), numpy's included, and
+    not a bool (which Python counts as an int)."""
+    return isinstance(value, numbers.Integral if integral else numbers.Real) and not is_bool(value)
 
 
 def identity_pose_stamped(frame_id: str) -> PoseStamped:
@@ -1211,7 +1219,7 @@ _PLAIN = (bool, int, float, str, type(None))
 
 #: Key naming the message class of a message held in an untyped field (``SolutionInfo.markers``
 #: holds any objects), so that :func:`from_dict` rebuilds it instead of leaving a dict.
-TYPE_KEY = "_msg"
+TYPE_KEY = "__msg__"
 
 
 def _untyped(hint: Any) -> bool:

@@ -27,7 +27,6 @@ import base64
 import functools
 import logging
 import math
-import numbers
 import os
 import selectors
 import subprocess
@@ -442,8 +441,7 @@ def _check_fps(fps) -> float:
     Raises:
         ValueError: anything else.
     """
-    if not (isinstance(fps, numbers.Real) and not isinstance(fps, (bool, np.bool_))
-            and math.isfinite(fps) and 0 < fps <= MAX_FPS):
+    if not (msgs.is_number(fps) and math.isfinite(fps) and 0 < fps <= MAX_FPS):
         raise ValueError(f"fps must be a number of frames per second in (0, {MAX_FPS:g}], got {fps!r}")
     return float(fps)
 
@@ -1167,7 +1165,7 @@ class Viewer:
             The animation's duration [s].
         """
         segs = _as_segments(segments)
-        if not isinstance(repetitions, numbers.Integral) or isinstance(repetitions, (bool, np.bool_)) or repetitions < 1:
+        if not msgs.is_number(repetitions, integral=True) or repetitions < 1:
             raise ValueError(f"repetitions must be a positive integer, got {repetitions!r}")
         repetitions = int(repetitions)
         self._require_open()

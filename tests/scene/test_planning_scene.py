@@ -490,6 +490,18 @@ def test_object_ids_with_slashes_are_frames(scene):
     # an object named as a link does not hide the link
     scene.apply_collision_object(box("panda_link3", (2.0, 0.0, 0.0)))
     np.testing.assert_allclose(scene.get_frame_transform("panda_link3"), scene.current_state.get_global_link_transform("panda_link3"))
+    # a leading "/" is dropped everywhere a frame is resolved; "/" alone is no frame
+    link, offset = resolve_frame(scene, "/tool/a/tip")
+    np.testing.assert_allclose(scene.current_state.get_global_link_transform(link) @ offset, scene.get_frame_transform("tool/a/tip"), atol=1e-12)
+    np.testing.assert_allclose(scene.current_state.get_frame_transform("/panda_hand"), scene.current_state.get_global_link_transform("panda_hand"))
+    assert resolve_frame(scene, "/panda_hand")[0] == resolve_frame(scene, "panda_hand")[0]
+    assert not scene.knows_frame_transform("/")
+    # the id before a "/" whose object has the subframe wins, as MoveIt looks for it
+    a = box("a", (0.0, 1.0, 0.0))
+    a.subframe_names, a.subframe_poses = ["b/c"], [pose((0.0, 0.0, 0.5))]
+    scene.apply_collision_object(a)
+    scene.apply_collision_object(box("a/b", (0.0, 2.0, 0.0)))
+    np.testing.assert_allclose(translation(scene.get_frame_transform("a/b/c")), [0.0, 1.0, 0.5], atol=1e-12)
 
 
 def test_frame_transforms(scene):

@@ -16,13 +16,13 @@ walks along solutions and across this map.
 from __future__ import annotations
 
 import logging
-import numbers
 import sys
 from bisect import bisect_right
 from collections.abc import Callable
 
 import numpy as np
 
+from mtc import msgs
 from mtc.core.properties import PropertyError
 from mtc.core.stage import (
     BACKWARD,
@@ -93,7 +93,7 @@ def _index(value, name: str) -> int:
     Raises:
         TypeError: any other value, naming ``name``.
     """
-    if isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_)):
+    if msgs.is_number(value, integral=True):
         return int(value)
     raise TypeError(f"{name} must be a child position (an integer; negative counts from the end), got {value!r}")
 

@@ -17,7 +17,7 @@ from __future__ import annotations
 import inspect
 import logging
 import math
-import numbers
+import weakref
 from collections.abc import Callable, Mapping, Sequence
 from enum import IntEnum
 
@@ -45,13 +45,13 @@ INF = math.inf
 
 log = logging.getLogger(__name__)
 
-def _number(value, what: str, finite: bool = True) -> float:
+def _cost_number(value, what: str, finite: bool = True) -> float:
     """``value`` as a float: a number, not NaN (nor infinite with ``finite``).
 
     Raises:
         TypeError: not a number; ValueError: NaN or (``finite``) infinite; both naming ``what``.
     """
-    if not isinstance(value, numbers.Real) or isinstance(value, (bool, np.bool_)):
+    if not msgs.is_number(value):
         raise TypeError(f"{what} must be a number, got {value!r}")
     value = float(value)
     if value != value or (finite and not math.isfinite(value)):
@@ -67,7 +67,7 @@ def _joint_numbers(values, what: str) -> dict[str, float]:
     for k, v in values.items():
         if not isinstance(k, str):
             raise TypeError(f"{what}: joint names must be strings, got {k!r}")
-        out[k] = _number(v, f"{what} of joint '{k}'")
+        out[k] = _cost_number(v, f"{what} of joint '{k}'")
     return out
 
 
@@ -85,9 +85,9 @@ def _known_weights(term, weights: dict[str, float], model, what: str) -> list[st
     as MoveIt's lookup of them, that is logged as an error (once per term and robot)."""
     unknown = _unknown_joints(model, weights, what)
     if unknown:
-        logged = term.__dict__.setdefault("_logged_unknown", set())
-        if id(model) not in logged:
-            logged.add(id(model))
+        logged = term.__dict__.setdefault("_logged_unknown", weakref.WeakSet())
+        if model not in logged:
+            logged.add(model)
             log.error("%s; they are left out", unknown)
         return [n for n in weights if n in model._var_index]
     return list(weights)
@@ -102,9 +102,12 @@ def _normalize(result) -> tuple[float, str]:
             raise TypeError(f"a cost term returns a cost or a (cost, comment) pair, got {result!r}")
         result, comment = result
         comment = "" if comment is None else str(comment)
-    if not isinstance(result, (numbers.Real, np.bool_)):
-        raise TypeError(f"a cost term returns a cost (a number) or a (cost, comment) pair, got {result!r}")
-    return float(result), comment
+    if not isinstance(result, (str, bytes)):  # (numpy scalars and 0-d arrays, Decimal, ... are numbers)
+        try:
+            return float(result), comment
+        except (TypeError, ValueError):
+            pass
+    raise TypeError(f"a cost term returns a cost (a number) or a (cost, comment) pair, got {result!r}")
 
 
 class CostTerm:
@@ -203,7 +206,7 @@ class Constant(CostTerm):
     """The same cost for every solution kind (no summing over sequences)."""
 
     def __init__(self, cost: float = 0.0):
-        self.cost = _number(cost, "Constant's cost", finite=False)
+        self.cost = _cost_number(cost, "Constant's cost", finite=False)
 
     def __call__(self, solution):
         return self.cost

@@ -15,13 +15,13 @@ last finished segment, so a script can re-plan from there.
 from __future__ import annotations
 
 import logging
-import numbers
 import threading
 from collections.abc import Callable
 from typing import Any
 
 import numpy as np
 
+from mtc import msgs
 from mtc.core.storage import SolutionBase, SolutionSequence, SubTrajectory, WrappedSolution
 from mtc.core.task import MoveItErrorCode
 from mtc.scene.robot_model import shortest_delta
@@ -171,9 +171,7 @@ def execute(
             f"callback must be callable as callback(sub_trajectory, index, count), not {type(callback).__name__}"
         )
     _check_preempt_arg(preempt)
-    if start_tolerance is not None and not (
-        isinstance(start_tolerance, numbers.Real) and not isinstance(start_tolerance, bool) and start_tolerance >= 0
-    ):
+    if start_tolerance is not None and not (msgs.is_number(start_tolerance) and start_tolerance >= 0):
         raise ValueError(f"start_tolerance must be None (no check) or a number >= 0 [rad/m], got {start_tolerance!r}")
     leaves = flatten(solution)
     for i, leaf in enumerate(leaves):

@@ -39,10 +39,6 @@ __all__ = [
 
 
 
-def _real(value) -> bool:
-    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
-
-
 def non_negative(name: str) -> Callable[[Any], Any]:
     """A property converter: a number must be >= 0 (infinity allowed, NaN not); other values
     are left to the type check.
@@ -52,7 +48,7 @@ def non_negative(name: str) -> Callable[[Any], Any]:
     """
 
     def convert(value):
-        if _real(value) and not value >= 0:
+        if msgs.is_number(value) and not value >= 0:
             raise ValueError(f"{name} must be a number >= 0, got {value!r}")
         return value
 
@@ -63,7 +59,7 @@ def positive(name: str) -> Callable[[Any], Any]:
     """A property converter: a number must be finite and > 0 (see :func:`non_negative`)."""
 
     def convert(value):
-        if _real(value) and not (value > 0 and math.isfinite(value)):
+        if msgs.is_number(value) and not (value > 0 and math.isfinite(value)):
             raise ValueError(f"{name} must be a finite number > 0, got {value!r}")
         return value
 
@@ -74,7 +70,7 @@ def finite(name: str, hint: str = "") -> Callable[[Any], Any]:
     """A property converter: a number must be finite (``hint`` says what a value means)."""
 
     def convert(value):
-        if _real(value) and not math.isfinite(value):
+        if msgs.is_number(value) and not math.isfinite(value):
             raise ValueError(f"{name} must be a finite number{hint}, got {value!r}")
         return value
 

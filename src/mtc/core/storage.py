@@ -11,15 +11,13 @@ Solutions are :class:`SubTrajectory` (a leaf, possibly without trajectory),
 from __future__ import annotations
 
 import math
-import numbers
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable, Iterable
 from contextlib import contextmanager
 from enum import IntEnum
 from typing import Any
 
-import numpy as np
-
+from mtc import msgs
 from mtc.core.properties import PropertyMap
 
 __all__ = [
@@ -748,7 +746,7 @@ class Solutions:
     def __getitem__(self, index):
         if isinstance(index, slice):
             return self._items[index]
-        if not isinstance(index, numbers.Integral) or isinstance(index, (bool, np.bool_)):
+        if not msgs.is_number(index, integral=True):
             raise TypeError(f"solutions are indexed by position (an integer) or a slice, not {index!r}")
         n = len(self._items)
         if not -n <= index < n:

@@ -41,7 +41,7 @@ import pinocchio as pin
 from mtc import msgs
 from mtc.scene.robot_model import RobotModel, wrap_angle
 from mtc.scene.planning_scene import object_frame
-from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_state import RobotState, plain_frame
 
 __all__ = [
     "KinematicConstraintSet",
@@ -242,6 +242,7 @@ class _FrameResolver:
 
     def resolve(self, frame: str, what: str):
         model = self.model
+        frame = plain_frame(frame)
         if frame in ("", model.model_frame):
             return ("fixed", np.eye(4))
         if model.has_link_model(frame):
@@ -252,7 +253,8 @@ class _FrameResolver:
                 f"{what}: frame '{frame}' is not a link of robot '{model.name}'; objects need a planning "
                 f"scene (links: {', '.join(model.link_model_names)})"
             )
-        split = object_frame(frame, scene.attached_object_names)
+        split = object_frame(frame, scene.attached_object_names,
+                             lambda name: scene.get_attached_object(name).object.subframe_poses)
         if split is not None:
             name, sub = split
             att = scene.get_attached_object(name)

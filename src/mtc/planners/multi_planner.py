@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import numbers
 import time
 
 import numpy as np
@@ -57,7 +56,7 @@ class MultiPlanner(PlannerInterface):
 
     def __getitem__(self, index: int) -> PlannerInterface:
         n = len(self._planners)
-        if not isinstance(index, numbers.Integral) or isinstance(index, bool):
+        if not msgs.is_number(index, integral=True):
             raise TypeError(f"MultiPlanner indices must be integers, not {type(index).__name__}")
         if not -n <= index < n:
             raise IndexError(f"planner index {index} out of range (MultiPlanner holds {n})")

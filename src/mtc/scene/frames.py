@@ -18,6 +18,7 @@ import numpy as np
 
 from mtc import msgs
 from mtc.scene.planning_scene import object_frame
+from mtc.scene.robot_state import plain_frame
 
 __all__ = [
     "FrameError",
@@ -81,6 +82,11 @@ class IKFrame:
     pose: np.ndarray
 
 
+def _attached_subframes(scene):
+    """``subframes(id)`` of :func:`object_frame` for the scene's attached objects."""
+    return lambda name: scene.get_attached_object(name).object.subframe_poses
+
+
 def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
     """The robot link a frame is fixed to, and the frame's 4x4 pose on that link.
 
@@ -97,9 +103,10 @@ def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
         NotALinkFrameError: ``frame`` is the planning frame or a world object.
     """
     model = scene.robot_model
+    frame = plain_frame(frame)
     if not frame or frame == scene.planning_frame:
         raise NotALinkFrameError(frame)
-    split = object_frame(frame, scene.attached_object_names)
+    split = object_frame(frame, scene.attached_object_names, _attached_subframes(scene))
     if split is not None and frame not in model.link_model_names:
         name, sub = split
         attached = scene.get_attached_object(name)

@@ -22,7 +22,7 @@ from mtc import msgs
 from mtc.scene._moveit_py import moveit_py_keywords
 from mtc.scene.collision_matrix import AllowedCollisionMatrix
 from mtc.scene.robot_model import DescriptionError, RobotModel
-from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_state import RobotState, plain_frame
 
 log = logging.getLogger(__name__)
 
@@ -87,18 +87,27 @@ def _is_empty_pose(pose: msgs.Pose) -> bool:
     return p.x == p.y == p.z == 0.0 and q.x == q.y == q.z == q.w == 0.0
 
 
-def object_frame(frame: str, objects) -> tuple[str, str] | None:
+def object_frame(frame: str, objects, subframes=None) -> tuple[str, str] | None:
     """``(object id, subframe)`` of a frame that names one of ``objects`` (ids) or a subframe of
-    one (``"id/subframe"``; subframe ``""`` for the object itself), else None. As MoveIt, the
-    whole name is tried as an id first: ids may contain "/" (the longest id before a "/"
-    wins)."""
+    one (``"id/subframe"``; subframe ``""`` for the object itself), else None.
+
+    As MoveIt, the whole name is tried as an id first, so ids may contain "/"; then every id
+    before a "/", longest first, whose object has that subframe (``subframes(id)``: its
+    subframe names; without it, the longest id wins), else the longest such id.
+    """
+    frame = plain_frame(frame)
     if frame in objects:
         return frame, ""
+    first = None
     k = len(frame)
     while (k := frame.rfind("/", 0, k)) > 0:
-        if frame[:k] in objects:
-            return frame[:k], frame[k + 1 :]
-    return None
+        oid = frame[:k]
+        if oid in objects:
+            sub = frame[k + 1 :]
+            if subframes is None or sub in subframes(oid):
+                return oid, sub
+            first = first or (oid, sub)
+    return first
 
 
 def _check_name(name, what="object id") -> str:
@@ -1201,7 +1210,7 @@ class PlanningScene:
     # ------------------------------------------------------------------ frames
     def _attached_frame(self, frame: str):
         """(link, offset) of an attached object or its subframe, else None."""
-        split = object_frame(frame, self._attached)
+        split = object_frame(frame, self._attached, lambda i: self._attached[i].object.subframe_poses)
         if split is None:
             return None
         name, sub = split
@@ -1218,9 +1227,7 @@ class PlanningScene:
         Raises:
             KeyError: unknown frame, naming the links and objects that exist.
         """
-        if not isinstance(frame, str):
-            raise TypeError(f"frame must be a frame name (str), not {type(frame).__name__}")
-        frame = frame[1:] if frame.startswith("/") else frame  # (as MoveIt: a leading "/" is dropped)
+        frame = plain_frame(frame)  # (as MoveIt: a leading "/" is dropped)
         if frame == self.planning_frame or frame == "":
             return np.eye(4)
         # as MoveIt: links first, then attached objects, then world objects
@@ -1229,7 +1236,7 @@ class PlanningScene:
         entry = self._attached_frame(frame)
         if entry is not None:
             return self._state.get_global_link_transform(entry[0]) @ entry[1]
-        split = object_frame(frame, self._world)
+        split = object_frame(frame, self._world, lambda i: self._world[i].subframe_poses)
         if split is not None:
             obj, sub = self._world[split[0]], split[1]
             if not sub:
@@ -1246,7 +1253,7 @@ class PlanningScene:
         """Whether ``frame`` names a link, object or subframe (or the planning frame); an empty
         name is no frame, as in MoveIt (:meth:`get_frame_transform` reads it as the planning
         frame, as headers do)."""
-        if frame == "":
+        if not isinstance(frame, str) or plain_frame(frame) == "":
             return False
         try:
             self.get_frame_transform(frame)

@@ -49,6 +49,17 @@ def _checked_positions(model: RobotModel, values) -> np.ndarray:
 _PROCESS_RNG = np.random.default_rng(0)
 
 
+
+def plain_frame(frame: str) -> str:
+    """A frame name without a leading "/" (MoveIt drops it).
+
+    Raises:
+        TypeError: ``frame`` is not a str.
+    """
+    if not isinstance(frame, str):
+        raise TypeError(f"frame must be a frame name (str), not {type(frame).__name__}")
+    return frame[1:] if frame.startswith("/") else frame
+
 class RobotState:
     """Joint positions of a robot, with kinematic queries.
 
@@ -276,12 +287,14 @@ class RobotState:
         Raises:
             KeyError: unknown frame, naming the links (and attached objects) that exist.
         """
+        frame = plain_frame(frame)
+        # as MoveIt: links first, then attached objects
+        if frame in self._model._frame_ids:
+            return self.get_global_link_transform(frame)
         entry = self.get_attached_frame(frame)
         if entry is not None:
             link, offset = entry
             return self.get_global_link_transform(link) @ offset
-        if frame in self._model._frame_ids:
-            return self.get_global_link_transform(frame)
         raise KeyError(
             f"unknown frame '{frame}' (links: {', '.join(self._model.link_model_names)})"
         )

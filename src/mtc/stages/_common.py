@@ -22,6 +22,7 @@ Errors are exceptions here; each stage turns them into its own failure comment o
 
 from __future__ import annotations
 
+import math
 import numbers
 from collections.abc import Iterable
 
@@ -201,7 +202,14 @@ def check_goal(goal):
             joint_state=msgs.JointState(name=list(values), position=list(values.values())), is_diff=True
         )
     if isinstance(goal, _GOAL_TYPES):
-        if not isinstance(goal, str):
+        if isinstance(goal, msgs.RobotState):
+            # (recorded joint states carry NaN velocities and efforts: only positions count)
+            msgs.validate(goal, "setGoal", finite=False)
+            msgs.validate(goal.joint_state, "setGoal: RobotState", finite=False)
+            for i, value in enumerate(goal.joint_state.position):
+                if not math.isfinite(value):
+                    raise ValueError(f"setGoal: RobotState.joint_state.position[{i}] must be finite, got {value!r}")
+        elif not isinstance(goal, str):
             msgs.validate(goal, "setGoal")
         return goal
     raise TypeError(

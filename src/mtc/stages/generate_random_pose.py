@@ -18,7 +18,6 @@ Fixes and additions to MTC:
 from __future__ import annotations
 
 import math
-import numbers
 import time
 from collections.abc import Callable
 from enum import IntEnum
@@ -112,7 +111,7 @@ class GenerateRandomPose(GeneratePose):
             TypeError: ``width`` is neither a number nor a callable.
         """
         try:
-            if not isinstance(dimension, numbers.Integral) or isinstance(dimension, (bool, np.bool_)):
+            if not msgs.is_number(dimension, integral=True):
                 raise TypeError
             dim = PoseDimension(int(dimension))
         except (ValueError, TypeError):
@@ -124,11 +123,11 @@ class GenerateRandomPose(GeneratePose):
 
             def sampler(rng, fn=fn, dim=dim):
                 value = fn(rng)
-                if not (isinstance(value, numbers.Real) and math.isfinite(value)):
+                if not (msgs.is_number(value) and math.isfinite(value)):
                     raise ValueError(f"the sampler of dimension {dim.name} must return a finite number, got {value!r}")
                 return float(value)
         else:
-            if not isinstance(width, numbers.Real) or isinstance(width, (bool, np.bool_)):
+            if not msgs.is_number(width):
                 raise TypeError(f"width must be a number or a callable f(rng) -> deviation, got {type(width).__name__}")
             width = float(width)
             if not math.isfinite(width) or width < 0.0:
