@@ -767,6 +767,15 @@ def test_object_colors_from_the_scene(shapes_viewer, shapes_model):
     plain = tree[f"{ROOT_PATH}/objects/plain/0"]["object"]["materials"][0]
     assert red["color"] == 0xFF0000 and red["opacity"] == 0.5 and red["transparent"]
     assert plain["color"] == viewer_module._OBJECT_COLOR and plain["opacity"] == 1.0
+    # a new colour draws the object again; without one it is green again
+    scene.set_object_color("red", msgs.ColorRGBA(b=1.0, a=1.0))
+    shapes_viewer.show_scene(scene)
+    assert server_tree(shapes_viewer)[f"{ROOT_PATH}/objects/red/0"]["object"]["materials"][0]["color"] == 0x0000FF
+    plain_scene = PlanningScene(shapes_model)
+    add_object(plain_scene, "red", P.BOX, [0.1, 0.1, 0.1], pose((0.5, 0, 0)))
+    shapes_viewer.show_scene(plain_scene)
+    material = server_tree(shapes_viewer)[f"{ROOT_PATH}/objects/red/0"]["object"]["materials"][0]
+    assert material["color"] == viewer_module._OBJECT_COLOR
 
 
 def _recorded(viewer, monkeypatch) -> list[dict]:
@@ -787,8 +796,8 @@ def test_a_new_animation_replaces_the_old_before_its_final_frame(shapes_viewer, 
     the old one first and then sends its final frame in full, visibility included: an object
     an earlier animation hid at its end shows again in one where it exists. A play without
     motion also unloads the old animation, and show_state after an animation sends the world
-    objects' poses and every object's visibility again (a page opened meanwhile had them
-    reset)."""
+    objects' poses again, and the visibility of those the animation showed or hid (a page opened
+    meanwhile had them reset); visibility nobody animated is not sent again."""
     s0 = PlanningScene(shapes_model)
     add_object(s0, "keg", msgs.SolidPrimitive.BOX, [0.1, 0.1, 0.1], pose((0.4, 0, 0)))
     s1 = s0.diff()
@@ -811,12 +820,18 @@ def test_a_new_animation_replaces_the_old_before_its_final_frame(shapes_viewer, 
     assert shapes_viewer.play([(None, s0, s0)]) == 0.0  # no motion: the old animation goes
     assert [c["animations"] for c in sent if c["type"] == "set_animation"] == [[]]
 
-    shapes_viewer.play([(traj, s0, s0)])
+    shapes_viewer.show_scene(s0)
+    shapes_viewer.play([(traj, s0, s0), (None, s0, s1)])  # hides the keg: a visibility track
+    sent.clear()
+    shapes_viewer.show_state(start)  # (the keg is not in the scene the animation ended in)
+    assert sent[0]["type"] == "set_animation"
+    assert [c["value"] for c in sent if c["type"] == "set_property" and c["path"] == path] == [False]
+    shapes_viewer.show_scene(s0)
+    shapes_viewer.play([(traj, s0, s0)])  # the keg stays: no visibility track
     sent.clear()
     shapes_viewer.show_state(start)
-    transforms = {c["path"] for c in sent if c["type"] == "set_transform"}
-    assert sent[0]["type"] == "set_animation" and path in transforms
-    assert any(c["type"] == "set_property" and c["path"] == path and c["value"] is True for c in sent)
+    assert sent[0]["type"] == "set_animation" and path in {c["path"] for c in sent if c["type"] == "set_transform"}
+    assert not [c for c in sent if c["type"] == "set_property"]
     sent.clear()
     shapes_viewer.show_state(start)  # no animation to stop: the world stays as it is
     assert {c["path"] for c in sent} & {path} == set()

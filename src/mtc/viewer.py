@@ -215,6 +215,8 @@ class _ObjectNodes:
         path = self._path_for(name, obj)
         if color is not None:
             self._colors[path] = color
+        else:
+            self._colors.pop(path, None)
         return path
 
     def _path_for(self, name: str, obj: WorldObject) -> str:
@@ -1005,6 +1007,8 @@ class Viewer:
         self._links = _visual_links(robot_model)
         self._nodes = _ObjectNodes()
         self._drawn: set[str] = set()  # object node paths with geometry on the server
+        self._drawn_colors: dict[str, tuple[int, float]] = {}  # (colour, opacity) they were drawn in
+        self._animated_visibility: set[str] = set()  # object paths the loaded animation shows/hides
         # object node paths -> the visibility the page has: sent only when it changes, as the
         # server keeps every set_property it gets (and replays them all to each new page);
         # missing: unknown, sent next time (see _stop_animation)
@@ -1287,10 +1291,10 @@ class Viewer:
             self._send_transform(path, offset)
 
     def _draw_object(self, path: str, obj: WorldObject) -> None:
-        if path in self._drawn:
+        color, opacity = self._nodes.color(path)
+        if path in self._drawn and self._drawn_colors.get(path) == (color, opacity):
             return
         geometries = obj.geometries or (None,) * len(obj.shapes)
-        color, opacity = self._nodes.color(path)
         for k, (shape, pose, geom) in enumerate(zip(obj.shapes, obj.shape_poses, geometries)):
             node, T = _shape_node(shape, pose, geom, color, opacity)
             if node is None:
@@ -1298,26 +1302,32 @@ class Viewer:
                 continue
             self._send_object(f"{path}/{k}", node)
             self._send_transform(f"{path}/{k}", T)
+        if path not in self._drawn:
+            self._visibility[path] = True  # a new node (deleting one forgets it)
         self._drawn.add(path)
-        self._visibility[path] = True  # a new node (deleting one forgets it)
+        self._drawn_colors[path] = (color, opacity)
 
     def _delete_objects(self, paths: Iterable[str]) -> None:
         for path in sorted(paths):
             self._send_delete(path)
             self._drawn.discard(path)
+            self._drawn_colors.pop(path, None)
             self._visibility.pop(path, None)
 
     def _stop_animation(self) -> bool:
         """Unload the page's animation (a loaded one would snap nodes back when the page's time
         slider moves). Whether one was loaded: stopping it makes three.js restore each animated
-        node to what it had when the animation started (on a page opened later: the
-        defaults, as the server sends the animation first), so the caller sends the
-        transforms anew, and no visibility is known any more."""
+        property (pose, and visibility where it changes) to what it was when the animation
+        started (on a page opened later: the defaults, as the server sends the animation
+        first), so the caller sends the transforms anew, and the visibility of the nodes it
+        showed or hid is unknown."""
         if not self._animation_loaded:
             return False
         self._send({"type": "set_animation", "path": "", "animations": [], "options": {"play": False}})
         self._animation_loaded = False
-        self._visibility.clear()
+        for path in self._animated_visibility:  # (only animated properties are restored)
+            self._visibility.pop(path, None)
+        self._animated_visibility.clear()
         return True
 
     def _send_animation(self, anim: _Animation, fps: float, repetitions: int) -> None:
@@ -1334,6 +1344,7 @@ class Viewer:
             }
             if not track.visible.all():
                 tracks["visible"] = AnimationTrack("visible", "boolean", list(frames), [bool(v) for v in track.visible])
+                self._animated_visibility.add(path)
             animation.clips[Path(tuple(self._full(path).strip("/").split("/")))] = AnimationClip(tracks=tracks, fps=fps)
         self._send(SetAnimation(animation, play=True, repetitions=repetitions).lower())
         self._animation_loaded = True

@@ -32,7 +32,8 @@ NAN, INF = math.nan, math.inf
         (core.JointInterpolationPlanner, "max_cartesian_speed", NAN, "number >= 0"),
         (lambda: stages.MoveTo("m", core.JointInterpolationPlanner()), "timeout", -1.0, "number >= 0"),
         (lambda: stages.MoveRelative("r", core.CartesianPath()), "max_distance", INF, "finite number (0: no maximum)"),
-        (lambda: stages.MoveRelative("r", core.CartesianPath()), "min_distance", NAN, "finite number (-1: none)"),
+        (lambda: stages.MoveRelative("r", core.CartesianPath()), "min_distance", NAN, "number below infinity (-1: none)"),
+        (lambda: stages.MoveRelative("r", core.CartesianPath()), "min_distance", INF, "number below infinity (-1: none)"),
         (lambda: stages.GenerateGraspPose("g"), "angle_delta", NAN, "finite number (non-zero)"),
     ],
 )
@@ -181,6 +182,7 @@ def test_set_robot_model_takes_a_robot_model(make_task):
     assert task.getRobotModel() is mtc.robots.panda() and len(task.solutions) == 1
     with pytest.raises(TypeError, match="introspection must be True or False"):
         core.Task(introspection="yes")
+    assert core.Task(introspection=0)._introspection_enabled is False  # (pybind11 reads numbers as flags)
 
 
 def test_numpy_bools_are_bools(ready_scene):
@@ -260,7 +262,7 @@ def test_motion_setters_are_all_or_nothing():
     approach = pick["approach object"]
     before = approach.properties.get("direction", None), approach.min_distance
     up = msgs.TwistStamped(header=msgs.Header(frame_id="world"), twist=msgs.Twist(linear=msgs.Vector3(z=1.0)))
-    with pytest.raises(ValueError, match="min_distance must be a finite number"):
+    with pytest.raises(ValueError, match="min_distance must be a number below infinity"):
         pick.setApproachMotion(up, NAN, 0.1)
     with pytest.raises(ValueError, match="max_distance must be a finite number"):
         pick.setLiftMotion(up, 0.05, INF)

@@ -85,7 +85,8 @@ def _normalize_ns(ns: str) -> str:
 
 
 def _flag(value, name: str) -> bool:
-    if not msgs.is_bool(value):
+    """A flag argument: a bool, or a number read as one (as pybind11's bool caster does)."""
+    if not (msgs.is_bool(value) or msgs.is_number(value)):
         raise TypeError(f"{name} must be True or False, got {value!r}")
     return bool(value)
 

@@ -9,6 +9,7 @@ reversed, so the new start state lies the given motion *before* the end state.
 from __future__ import annotations
 
 import logging
+import math
 
 import numpy as np
 
@@ -36,6 +37,13 @@ _EPS = np.finfo(float).eps
 #: Shortest motion [m] that gets arrow markers (MTC draws none for shorter ones).
 _MIN_ARROW = 1e-3
 
+
+
+def _min_distance(value):
+    """``min_distance``: a number below infinity (-1, or any negative one: none)."""
+    if msgs.is_number(value) and not value < math.inf:
+        raise ValueError(f"min_distance must be a number below infinity (-1: none), got {value!r}")
+    return value
 
 class MoveRelative(PlannerStage):
     """Move relative to the current state.
@@ -65,7 +73,7 @@ class MoveRelative(PlannerStage):
         p = self.properties
         p.declare("direction", None, "motion specification")
         p.declare("min_distance", -1.0, "minimum distance to move (m or rad)",
-                  convert=finite("min_distance", " (-1: none)"))
+                  convert=_min_distance)
         p.declare("max_distance", 0.0, "maximum distance to move (m or rad)",
                   convert=finite("max_distance", " (0: no maximum)"))
         self._declare_path_constraints()
