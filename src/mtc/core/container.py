@@ -178,7 +178,9 @@ class ContainerBase(Stage):
         """Insert ``stage`` before position ``before`` (-1: append, 0: prepend, -2: before the last).
 
         Raises:
-            RuntimeError: ``stage`` is None or already has a parent.
+            RuntimeError: ``stage`` is None, already has a parent, or is this container or one
+                of its ancestors.
+            TypeError: ``stage`` is not a Stage, or ``before`` is not an integer.
         """
         self._check_child(stage)
         pos = self._childByIndex(_index(before, "before"), True)

@@ -86,6 +86,7 @@ import ompl.util as ou
 
 from mtc import msgs
 from mtc.planners.constraints import ConstraintEvaluator, KinematicConstraintSet
+from mtc.planners.planner_interface import invalid_constraints
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta, wrap_angle
 from mtc.scene.robot_state import RobotState
@@ -290,12 +291,6 @@ def _result(success: bool, message: str = ""):
     from mtc.planners.planner_interface import PlannerResult  # owner A's seam, imported lazily
 
     return PlannerResult(success, message)
-
-
-def _invalid_constraints(e: Exception) -> str:
-    """The failure message of path constraints the robot or scene cannot evaluate."""
-    text = e.args[0] if isinstance(e, KeyError) and e.args else str(e)
-    return f"INVALID_GOAL_CONSTRAINTS: invalid path constraints: {text}"
 
 
 def _out_of_checks(max_checks: int, planner: str) -> str:
@@ -1089,7 +1084,7 @@ class OMPLPipeline:
         try:
             constraints = KinematicConstraintSet(model, path_constraints)
         except (KeyError, ValueError) as e:  # (a failed request, as MoveIt's: not an exception)
-            return None, self._fail(None, _invalid_constraints(e))
+            return None, self._fail(None, invalid_constraints(e))
         # joint constraints narrow the bounds the planner samples in (they are still checked)
         cont = model.continuous_mask[idx]
         free_turning = cont.copy()  # continuous joints no constraint narrows
@@ -1133,7 +1128,7 @@ class OMPLPipeline:
         try:
             evaluator = constraints.bind(scene) if not constraints.empty else None
         except (KeyError, ValueError) as e:
-            return None, self._fail(None, _invalid_constraints(e))
+            return None, self._fail(None, invalid_constraints(e))
         checker = _EdgeChecker(scene, jmg, base, evaluator, self.resolution, self.search_ratio)
         req = _Request(
             scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0,

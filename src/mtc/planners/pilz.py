@@ -39,7 +39,7 @@ import pinocchio as pin
 
 from mtc import msgs
 from mtc.planners import ik
-from mtc.planners.planner_interface import PathValidity, PlannerResult, error_message
+from mtc.planners.planner_interface import PathValidity, PlannerResult, error_message, invalid_constraints
 from mtc.planners.time_parameterization import (
     TrapezoidProfile,
     check_scaling_factor,
@@ -238,7 +238,7 @@ class PilzPipeline:
         try:
             return PathValidity(scene, group, path_constraints if check_constraints else None)
         except (ValueError, KeyError) as e:
-            raise _Failure(error_message("INVALID_GOAL_CONSTRAINTS", f"invalid path constraints: {e}")) from None
+            raise _Failure(invalid_constraints(e)) from None
 
     def _run(self, fn, start, jmg, vs, acs):
         try:
