@@ -702,7 +702,8 @@ def test_from_dict_errors_name_the_path():
     with pytest.raises(TypeError, match=r"Constraints.joint_constraints\[0\] must be a dict"):
         from_dict(Constraints, {"joint_constraints": [3]})
     with pytest.raises(TypeError, match="RobotState.is_diff must be bool, got int"):
-        from_dict(RobotState, {"is_diff": 1})
+        from_dict(RobotState, {"is_diff": 2})
+    assert from_dict(RobotState, {"is_diff": 1}).is_diff is True  # (0 and 1, as validate() takes them)
     with pytest.raises(TypeError, match="SolidPrimitive.type must be int, got float 1.5"):
         from_dict(SolidPrimitive, {"type": 1.5})
     with pytest.raises(TypeError, match="expects a message class"):

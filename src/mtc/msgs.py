@@ -1136,6 +1136,19 @@ def is_bool(value: Any) -> bool:
     return isinstance(value, (bool, np.bool_))
 
 
+def real_value(value: Any) -> float | None:
+    """``value`` as a float where ``float()`` reads it as a number (numbers, numpy scalars and
+    0-d numeric arrays, ``Decimal``, bools), else None (strings, bytes, other objects)."""
+    if isinstance(value, (str, bytes, bytearray)) or (
+        isinstance(value, np.ndarray) and (value.ndim != 0 or value.dtype.kind not in "biuf")
+    ):
+        return None
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return None
+
+
 def is_number(value: Any, integral: bool = False) -> bool:
     """Whether ``value`` is a real number (an integer with ``integral``), numpy's included, and
     not a bool (which Python counts as an int)."""
@@ -1359,6 +1372,8 @@ def _decode(hint: Any, value: Any, path: str) -> Any:
     elif hint is bool or hint is str:
         if isinstance(value, hint):
             return value
+        if hint is bool and is_number(value, integral=True) and value in (0, 1):
+            return bool(value)  # (0 and 1, as validate() and Python's ROS messages take them)
     else:  # pragma: no cover - only reached if a message gains a field of a new kind
         raise TypeError(f"from_dict(): {path} has unsupported type {hint!r}")
     raise TypeError(

@@ -483,7 +483,7 @@ def test_object_ids_with_slashes_are_frames(scene):
     np.testing.assert_allclose(translation(scene.get_frame_transform("tool/a/tip")), translation(hand @ msgs.pose_to_matrix(pose((0.0, 0.0, 0.07)))), atol=1e-12)
     np.testing.assert_allclose(scene.current_state.get_frame_transform("tool/a"), scene.get_frame_transform("tool/a"))
     # the ik frame and path constraints find it too
-    from mtc.scene.frames import resolve_frame
+    from mtc.scene.frames import NotALinkFrameError, resolve_frame, resolve_ik_frame
 
     link, offset = resolve_frame(scene, "tool/a/tip")
     np.testing.assert_allclose(scene.current_state.get_global_link_transform(link) @ offset, scene.get_frame_transform("tool/a/tip"), atol=1e-12)
@@ -495,13 +495,30 @@ def test_object_ids_with_slashes_are_frames(scene):
     np.testing.assert_allclose(scene.current_state.get_global_link_transform(link) @ offset, scene.get_frame_transform("tool/a/tip"), atol=1e-12)
     np.testing.assert_allclose(scene.current_state.get_frame_transform("/panda_hand"), scene.current_state.get_global_link_transform("panda_hand"))
     assert resolve_frame(scene, "/panda_hand")[0] == resolve_frame(scene, "panda_hand")[0]
+    arm = scene.robot_model.get_joint_model_group("panda_arm")
+    for frame in ("world", "/world"):
+        ik = resolve_ik_frame(scene, msgs.PoseStamped(header=msgs.Header(frame_id=frame)), arm)
+        assert ik.link == "panda_link8"
     assert not scene.knows_frame_transform("/")
-    # the id before a "/" whose object has the subframe wins, as MoveIt looks for it
+    # the ids before a "/" are tried in MoveIt's (sorted) order until one has the subframe
     a = box("a", (0.0, 1.0, 0.0))
     a.subframe_names, a.subframe_poses = ["b/c"], [pose((0.0, 0.0, 0.5))]
     scene.apply_collision_object(a)
-    scene.apply_collision_object(box("a/b", (0.0, 2.0, 0.0)))
+    ab = box("a/b", (0.0, 2.0, 0.0))
+    ab.subframe_names, ab.subframe_poses = ["c", "d"], [pose((0.0, 0.0, 0.7)), pose((0.0, 0.0, 0.9))]
+    scene.apply_collision_object(ab)
     np.testing.assert_allclose(translation(scene.get_frame_transform("a/b/c")), [0.0, 1.0, 0.5], atol=1e-12)
+    np.testing.assert_allclose(translation(scene.get_frame_transform("a/b/d")), [0.0, 2.0, 0.9], atol=1e-12)
+    np.testing.assert_allclose(translation(scene.get_frame_transform("//a/b/d")), [0.0, 2.0, 0.9], atol=1e-12)
+    # an attached object without the subframe does not hide a world object of that name
+    scene.apply_collision_object(box("tool/a/nose", (3.0, 0.0, 0.0)))
+    with pytest.raises(NotALinkFrameError):
+        resolve_frame(scene, "tool/a/nose")
+    from mtc.planners.constraints import _FrameResolver
+
+    resolver = _FrameResolver(scene.robot_model, scene)
+    assert resolver.resolve("tool/a/nose", "c")[0] == "fixed"
+    assert resolver.resolve("/panda_link8", "c")[0] == "link" and resolver.resolve("//world", "c")[0] == "fixed"
 
 
 def test_frame_transforms(scene):

@@ -359,3 +359,41 @@ def test_a_grasp_stage_with_a_parent_is_refused_unchanged():
             make(generator)
         assert not generator.properties.property("eef").initsFrom(core.Stage.PropertyInitializerSource.PARENT)
         assert generator.forwardedProperties() == set()
+
+
+def test_numbers_as_float_reads_them(make_task):
+    """Numbers as MTC's double casters read them: a sampler or cost term may return a numpy 0-d
+    array or a Decimal, not a string; CartesianPrecision and container indices take numpy."""
+    from decimal import Decimal
+
+    random = stages.GenerateRandomPose("random")
+    random.sample_dimension(stages.PoseDimension.X, lambda rng: rng.normal(0.0, 0.1, size=()))
+    random.sample_dimension(stages.PoseDimension.Y, lambda rng: "0.1")
+    assert isinstance(random._samplers[0][1](np.random.default_rng(0)), float)
+    with pytest.raises(TypeError, match="the sampler of dimension Y must return a number"):
+        random._samplers[1][1](np.random.default_rng(0))
+    task, move = _moved(make_task, lambda solution: np.array(Decimal("1.5")).astype(float).reshape(()))
+    assert task.plan() and task.solutions[0].cost == pytest.approx(1.5)
+    for bad in ("1.5", bytearray(b"2.5"), np.array("3.5")):
+        task, move = _moved(make_task, lambda solution, bad=bad: bad)
+        with pytest.raises(TypeError, match="a cost term returns a cost"):
+            task.plan()
+    assert core.CartesianPath().precision.__class__(translational=np.float32(1e-3)).translational > 0
+    serial = core.SerialContainer("s")
+    serial.add(stages.NoOp("a"))
+    assert serial[np.int64(0)].name == "a"
+
+
+def test_a_start_tolerance_of_zero_turns_the_check_off(make_task):
+    """As MoveIt's allowed_start_tolerance: 0 means no check, not an exact start."""
+    from mtc.core.execution import execute
+
+    move = stages.MoveTo("move", core.JointInterpolationPlanner())
+    move.group = "panda_arm"
+    move.setGoal("extended")
+    task = make_task(stages.CurrentState("current"), move)
+    assert task.plan()
+    moved = mtc.current_scene().current_state
+    moved.joint_positions = {"panda_joint1": 0.5}
+    assert not execute(task.solutions[0])  # 0.01 by default: refused
+    assert execute(task.solutions[0], start_tolerance=0)

@@ -97,6 +97,7 @@ def _index(value, name: str) -> int:
         return int(value)
     raise TypeError(f"{name} must be a child position (an integer; negative counts from the end), got {value!r}")
 
+
 class ContainerBase(Stage):
     """Base of all containers.
 
@@ -227,9 +228,9 @@ class ContainerBase(Stage):
                 raise IndexError(f"no child '{key}' in '{self._name}' (children: "
                                  f"{', '.join(repr(c._name) for c in self._children) or 'none'})")
             return child
-        if isinstance(key, bool) or not isinstance(key, int):
+        if not msgs.is_number(key, integral=True):
             raise TypeError(f"container index must be an int or a name, got {type(key).__name__}")
-        i = self._childByIndex(key, False)
+        i = self._childByIndex(int(key), False)
         if i >= len(self._children):
             raise IndexError(f"child index {key} out of range ({len(self._children)} children in '{self._name}')")
         return self._children[i]
@@ -691,6 +692,7 @@ def _filled(external: int, child_interface: int) -> int:
         if (external & mask) == UNKNOWN:
             external |= child_interface & mask
     return external
+
 
 class ParallelContainerBase(ContainerBase):
     """Base of containers whose children work on the same input."""

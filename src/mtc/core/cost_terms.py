@@ -45,15 +45,20 @@ INF = math.inf
 
 log = logging.getLogger(__name__)
 
+#: per robot model, the cost terms that logged its unknown joints (see _known_weights)
+_LOGGED_UNKNOWN: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
 def _cost_number(value, what: str, finite: bool = True) -> float:
     """``value`` as a float: a number, not NaN (nor infinite with ``finite``).
 
     Raises:
         TypeError: not a number; ValueError: NaN or (``finite``) infinite; both naming ``what``.
     """
-    if not msgs.is_number(value):
+    number = msgs.real_value(value) if not msgs.is_bool(value) else None
+    if number is None:
         raise TypeError(f"{what} must be a number, got {value!r}")
-    value = float(value)
+    value = number
     if value != value or (finite and not math.isfinite(value)):
         raise ValueError(f"{what} must be a {'finite ' if finite else ''}number, got {value!r}")
     return value
@@ -85,9 +90,9 @@ def _known_weights(term, weights: dict[str, float], model, what: str) -> list[st
     as MoveIt's lookup of them, that is logged as an error (once per term and robot)."""
     unknown = _unknown_joints(model, weights, what)
     if unknown:
-        logged = term.__dict__.setdefault("_logged_unknown", weakref.WeakSet())
-        if model not in logged:
-            logged.add(model)
+        logged = _LOGGED_UNKNOWN.setdefault(model, set())
+        if id(term) not in logged:  # (kept beside the term, which stays picklable)
+            logged.add(id(term))
             log.error("%s; they are left out", unknown)
         return [n for n in weights if n in model._var_index]
     return list(weights)
@@ -102,11 +107,9 @@ def _normalize(result) -> tuple[float, str]:
             raise TypeError(f"a cost term returns a cost or a (cost, comment) pair, got {result!r}")
         result, comment = result
         comment = "" if comment is None else str(comment)
-    if not isinstance(result, (str, bytes)):  # (numpy scalars and 0-d arrays, Decimal, ... are numbers)
-        try:
-            return float(result), comment
-        except (TypeError, ValueError):
-            pass
+    cost = msgs.real_value(result)  # (numpy scalars and 0-d arrays, Decimal, ... are numbers)
+    if cost is not None:
+        return cost, comment
     raise TypeError(f"a cost term returns a cost (a number) or a (cost, comment) pair, got {result!r}")
 
 

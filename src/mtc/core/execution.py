@@ -149,7 +149,8 @@ def execute(
         preempt: Checked before every segment: a callable returning bool, a
             ``threading.Event``, or an object with a ``requested`` attribute (the task's flag).
         start_tolerance: Largest deviation [rad/m] of the robot from the first waypoint of the
-            first segment with a trajectory, as a real controller checks (None: no check).
+            first segment with a trajectory, as a real controller checks (None or 0: no check,
+            as MoveIt's ``allowed_start_tolerance`` of 0).
 
     Returns:
         SUCCESS when every segment ran; PREEMPTED, or CONTROL_FAILED (-4) for a callback
@@ -183,7 +184,7 @@ def execute(
             )
     count = len(leaves)
 
-    if start_tolerance is not None:
+    if start_tolerance:  # (None or 0: no check, as MoveIt's allowed_start_tolerance of 0)
         for leaf in leaves:
             if leaf.trajectory is None or len(leaf.trajectory) == 0:
                 continue

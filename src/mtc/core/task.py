@@ -90,6 +90,7 @@ def _flag(value, name: str) -> bool:
         raise TypeError(f"{name} must be True or False, got {value!r}")
     return bool(value)
 
+
 class Task(WrapperBase):
     """The root of a stage tree: adds stages to its root container and plans.
 
@@ -405,7 +406,7 @@ class Task(WrapperBase):
             callback: ``callback(sub_trajectory, index, count)`` per segment, e.g. to drive a
                 real controller; returning ``False`` aborts with CONTROL_FAILED.
             start_tolerance: Largest joint deviation [rad or m] of the robot from the
-                solution's start (None: no check), as MoveIt's trajectory execution checks.
+                solution's start (None or 0: no check), as MoveIt's trajectory execution checks.
 
         Returns:
             SUCCESS; PREEMPTED after ``preempt()`` (checked between segments); CONTROL_FAILED.

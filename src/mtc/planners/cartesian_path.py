@@ -53,7 +53,7 @@ class CartesianPrecision:
     def __post_init__(self):
         for name in ("translational", "rotational", "max_resolution"):
             value = getattr(self, name)
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0:
+            if not msgs.is_number(value) or not value > 0:
                 raise ValueError(f"CartesianPrecision.{name} must be a positive number, got {value!r}")
 
     def __str__(self) -> str:

@@ -256,16 +256,10 @@ class _FrameResolver:
         split = object_frame(frame, scene.attached_object_names,
                              lambda name: scene.get_attached_object(name).object.subframe_poses)
         if split is not None:
-            name, sub = split
-            att = scene.get_attached_object(name)
+            att = scene.get_attached_object(split[0])
             offset = att.object.pose
-            if sub:
-                if sub not in att.object.subframe_poses:
-                    raise KeyError(
-                        f"{what}: attached object '{name}' has no subframe '{sub}' "
-                        f"(subframes: {', '.join(att.object.subframe_poses) or 'none'})"
-                    )
-                offset = offset @ att.object.subframe_poses[sub]
+            if split[1]:
+                offset = offset @ att.object.subframe_poses[split[1]]
             return ("link", model.frame_id(att.link), offset)
         try:
             return ("fixed", scene.get_frame_transform(frame))

@@ -108,10 +108,7 @@ def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
         raise NotALinkFrameError(frame)
     split = object_frame(frame, scene.attached_object_names, _attached_subframes(scene))
     if split is not None and frame not in model.link_model_names:
-        name, sub = split
-        attached = scene.get_attached_object(name)
-        if sub and sub not in attached.object.subframe_poses:
-            raise UnknownFrameError(frame)
+        attached = scene.get_attached_object(split[0])
         state = scene.current_state
         link, _ = model.rigid_parent_link(attached.link)
         # the frame's pose on its link follows from the current transforms (state-independent)
@@ -154,7 +151,7 @@ def resolve_ik_frame(scene, ik_frame: msgs.PoseStamped | None, group=None) -> IK
         return IKFrame(tip, np.eye(4), state.get_global_link_transform(tip))
     if not isinstance(ik_frame, msgs.PoseStamped):
         raise TypeError(f"ik_frame must be a PoseStamped, not {type(ik_frame).__name__}")
-    frame = ik_frame.header.frame_id
+    frame = plain_frame(ik_frame.header.frame_id)
     pose = msgs.pose_to_matrix(ik_frame.pose)
     try:
         link, frame_offset = resolve_frame(scene, frame)

@@ -87,27 +87,23 @@ def _is_empty_pose(pose: msgs.Pose) -> bool:
     return p.x == p.y == p.z == 0.0 and q.x == q.y == q.z == q.w == 0.0
 
 
-def object_frame(frame: str, objects, subframes=None) -> tuple[str, str] | None:
-    """``(object id, subframe)`` of a frame that names one of ``objects`` (ids) or a subframe of
-    one (``"id/subframe"``; subframe ``""`` for the object itself), else None.
+def object_frame(frame: str, objects, subframes) -> tuple[str, str] | None:
+    """``(object id, subframe)`` of a frame (without a leading "/") that names one of
+    ``objects`` (ids) or a subframe of one (``"id/subframe"``; subframe ``""`` for the object
+    itself), else None.
 
-    As MoveIt, the whole name is tried as an id first, so ids may contain "/"; then every id
-    before a "/", longest first, whose object has that subframe (``subframes(id)``: its
-    subframe names; without it, the longest id wins), else the longest such id.
+    As MoveIt, the whole name is tried as an id first, so ids may contain "/"; then the ids
+    before a "/" in MoveIt's (sorted) order, shortest first, until one has that subframe
+    (``subframes(id)``: its subframe names).
     """
-    frame = plain_frame(frame)
     if frame in objects:
         return frame, ""
-    first = None
-    k = len(frame)
-    while (k := frame.rfind("/", 0, k)) > 0:
+    k = 0
+    while (k := frame.find("/", k + 1)) > 0:
         oid = frame[:k]
-        if oid in objects:
-            sub = frame[k + 1 :]
-            if subframes is None or sub in subframes(oid):
-                return oid, sub
-            first = first or (oid, sub)
-    return first
+        if oid in objects and frame[k + 1 :] in subframes(oid):
+            return oid, frame[k + 1 :]
+    return None
 
 
 def _check_name(name, what="object id") -> str:
@@ -1210,15 +1206,12 @@ class PlanningScene:
     # ------------------------------------------------------------------ frames
     def _attached_frame(self, frame: str):
         """(link, offset) of an attached object or its subframe, else None."""
-        split = object_frame(frame, self._attached, lambda i: self._attached[i].object.subframe_poses)
+        split = object_frame(plain_frame(frame), self._attached, lambda i: self._attached[i].object.subframe_poses)
         if split is None:
             return None
-        name, sub = split
-        att = self._attached[name]
-        if not sub:
-            return att.link, att.object.pose
-        offset = att.object.subframe_poses.get(sub)
-        return None if offset is None else (att.link, att.object.pose @ offset)
+        att = self._attached[split[0]]
+        offset = att.object.pose
+        return att.link, (offset @ att.object.subframe_poses[split[1]] if split[1] else offset)
 
     def get_frame_transform(self, frame: str) -> np.ndarray:
         """4x4 pose in the planning frame of a link, a world or attached object, or an object's
@@ -1239,10 +1232,7 @@ class PlanningScene:
         split = object_frame(frame, self._world, lambda i: self._world[i].subframe_poses)
         if split is not None:
             obj, sub = self._world[split[0]], split[1]
-            if not sub:
-                return obj.pose.copy()
-            if sub in obj.subframe_poses:
-                return obj.pose @ obj.subframe_poses[sub]
+            return obj.pose @ obj.subframe_poses[sub] if sub else obj.pose.copy()
         objects = [*self._world, *self._attached]
         raise KeyError(
             f"unknown frame '{frame}' (links: {', '.join(self._model.link_model_names)}; "
@@ -1253,7 +1243,7 @@ class PlanningScene:
         """Whether ``frame`` names a link, object or subframe (or the planning frame); an empty
         name is no frame, as in MoveIt (:meth:`get_frame_transform` reads it as the planning
         frame, as headers do)."""
-        if not isinstance(frame, str) or plain_frame(frame) == "":
+        if plain_frame(frame) == "":  # (a TypeError for a non-str, as get_frame_transform's)
             return False
         try:
             self.get_frame_transform(frame)

@@ -51,14 +51,15 @@ _PROCESS_RNG = np.random.default_rng(0)
 
 
 def plain_frame(frame: str) -> str:
-    """A frame name without a leading "/" (MoveIt drops it).
+    """A frame name without leading "/"s (MoveIt drops them).
 
     Raises:
         TypeError: ``frame`` is not a str.
     """
     if not isinstance(frame, str):
         raise TypeError(f"frame must be a frame name (str), not {type(frame).__name__}")
-    return frame[1:] if frame.startswith("/") else frame
+    return frame.lstrip("/")
+
 
 class RobotState:
     """Joint positions of a robot, with kinematic queries.

@@ -123,9 +123,12 @@ class GenerateRandomPose(GeneratePose):
 
             def sampler(rng, fn=fn, dim=dim):
                 value = fn(rng)
-                if not (msgs.is_number(value) and math.isfinite(value)):
+                number = msgs.real_value(value)
+                if number is None:
+                    raise TypeError(f"the sampler of dimension {dim.name} must return a number, got {value!r}")
+                if not math.isfinite(number):
                     raise ValueError(f"the sampler of dimension {dim.name} must return a finite number, got {value!r}")
-                return float(value)
+                return number
         else:
             if not msgs.is_number(width):
                 raise TypeError(f"width must be a number or a callable f(rng) -> deviation, got {type(width).__name__}")

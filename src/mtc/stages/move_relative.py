@@ -45,6 +45,7 @@ def _min_distance(value):
         raise ValueError(f"min_distance must be a number below infinity (-1: none), got {value!r}")
     return value
 
+
 class MoveRelative(PlannerStage):
     """Move relative to the current state.
 

@@ -76,8 +76,7 @@ class SimpleGraspBase(SerialContainer):
         if generator is not None:
             if not isinstance(generator, Stage):
                 raise TypeError(f"{type(self).__name__}: the generator must be a Stage, got {type(generator).__name__}")
-            if generator.parent is not None:  # (before it is configured: a refused stage stays as it was)
-                raise RuntimeError(f"Tried to add stage '{generator.name}' to two parents")
+            self._check_child(generator)  # (before it is configured: a refused stage stays as it was)
             generator.setForwardedProperties(GRASP_PROPERTIES)  # generator -> IK solutions
             generator.properties.configureInitFrom(Stage.PARENT, ["object", "eef"])
             # as MTC, ComputeIK exists only around a generator: without one the container
