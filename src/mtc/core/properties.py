@@ -127,7 +127,7 @@ def _source(value) -> int:
     Raises:
         TypeError: not an integer flag; ValueError: unknown bits.
     """
-    if not isinstance(value, numbers.Integral) or isinstance(value, (bool, np.bool_)):
+    if not msgs.is_number(value, integral=True):
         raise TypeError(
             "the source must be Stage.PropertyInitializerSource.PARENT or INTERFACE (or both OR-ed), "
             f"got {value!r}"
