@@ -23,12 +23,12 @@ def _check_dt(dt) -> float:
     """A waypoint gap [s]: a finite number >= 0.
 
     Raises:
-        ValueError: anything else (times would go backwards or be undefined).
+        TypeError: not a number; ValueError: negative, NaN or infinite (times would go
+            backwards or be undefined).
     """
-    try:
-        value = float(dt)
-    except (TypeError, ValueError):
-        raise TypeError(f"dt must be a number of seconds, got {dt!r}") from None
+    value = msgs.real_value(dt)
+    if value is None:
+        raise TypeError(f"dt must be a number of seconds, got {dt!r}")
     if not (math.isfinite(value) and value >= 0.0):
         raise ValueError(f"dt must be a finite number of seconds >= 0, got {dt!r}")
     return value
