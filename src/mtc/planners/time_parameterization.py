@@ -39,7 +39,6 @@ from abc import ABC, abstractmethod
 import numpy as np
 import ruckig
 
-from mtc.scene.robot_model import unwrap_path
 from mtc.scene.robot_trajectory import RobotTrajectory
 
 log = logging.getLogger(__name__)
@@ -376,18 +375,12 @@ def time_parameterize(
     idx = trajectory.group.variable_indices
     vmax = model.velocity_limits[idx] * vs
     amax = model.acceleration_limits[idx] * acs
-    positions = trajectory.positions
-    Q = unwrap_path(positions.copy(), model.continuous_mask[idx])
-    if not np.array_equal(Q, positions):
-        # as MoveIt's TOTG (which unwinds the trajectory first): the waypoints take the
-        # continuous joints' values the timing is for, without jumps of a full turn
-        for w, q in zip(trajectory.waypoints, Q):
-            w.set_joint_group_positions(trajectory.group, q)
-    P = PJ = None
-    if max_cartesian_speed > 0:
-        if not cartesian_speed_limited_link:
-            raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
-        P, PJ = _link_positions(trajectory, cartesian_speed_limited_link)
+    if max_cartesian_speed > 0 and not cartesian_speed_limited_link:
+        raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
+    # as MoveIt's TOTG (which unwinds the trajectory first): the waypoints take the continuous
+    # joints' values the timing is for, without jumps of a full turn
+    trajectory.unwind()
+    Q = trajectory.positions
     keep = np.concatenate(([True], np.sqrt((np.diff(Q, axis=0) ** 2).sum(axis=1)) > _REPEATED))
     if not keep.all():
         # as MoveIt's TOTG ("remove repeated points"): a waypoint where the previous one is goes
@@ -395,8 +388,9 @@ def time_parameterize(
         # points is its first waypoint, at rest
         trajectory._keep(keep)
         Q = Q[keep]
-        P = None if P is None else P[keep]
-        PJ = None if PJ is None else PJ[keep]
+    P = PJ = None
+    if max_cartesian_speed > 0:
+        P, PJ = _link_positions(trajectory, cartesian_speed_limited_link)
     times, V, A = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed), PJ)
     trajectory.times = times
     trajectory.velocities = V
