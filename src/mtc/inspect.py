@@ -449,9 +449,7 @@ class _Handler(BaseHTTPRequestHandler):
             else:
                 self._json({"error": f"no such page: {url.path}"}, HTTPStatus.NOT_FOUND)
         except (KeyError, ValueError) as e:
-            # (a KeyError's text is the repr of its message: its quotes go, a ValueError's stay)
-            text = str(e.args[0]) if isinstance(e, KeyError) and e.args else str(e)
-            self._json({"error": text}, HTTPStatus.NOT_FOUND if isinstance(e, KeyError) else 400)
+            self._json({"error": msgs.error_text(e)}, HTTPStatus.NOT_FOUND if isinstance(e, KeyError) else 400)
         except RuntimeError as e:
             self._json({"error": str(e)}, HTTPStatus.CONFLICT)
         except (BrokenPipeError, ConnectionResetError):

@@ -1130,6 +1130,12 @@ def _validate(value: Any, hint: Any, what: str, path: str, finite: bool) -> None
             _validate(getattr(value, name), types[name], what, f"{path}.{name}", finite)
 
 
+def error_text(e: BaseException) -> str:
+    """An exception's message for a failure comment or an error reply (a KeyError's without
+    the quotes its ``str`` adds)."""
+    return str(e.args[0]) if isinstance(e, KeyError) and e.args else str(e)
+
+
 def is_bool(value: Any) -> bool:
     """Whether ``value`` is True or False: a Python bool or a numpy one (as pybind11's bool
     caster takes both)."""

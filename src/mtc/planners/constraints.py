@@ -40,7 +40,6 @@ import pinocchio as pin
 
 from mtc import msgs
 from mtc.scene.robot_model import RobotModel, wrap_angle
-from mtc.scene.planning_scene import object_frame
 from mtc.scene.robot_state import RobotState, plain_frame
 
 __all__ = [
@@ -253,18 +252,13 @@ class _FrameResolver:
                 f"{what}: frame '{frame}' is not a link of robot '{model.name}'; objects need a planning "
                 f"scene (links: {', '.join(model.link_model_names)})"
             )
-        split = object_frame(frame, scene.attached_object_names,
-                             lambda name: scene.get_attached_object(name).object.subframe_poses)
-        if split is not None:
-            att = scene.get_attached_object(split[0])
-            offset = att.object.pose
-            if split[1]:
-                offset = offset @ att.object.subframe_poses[split[1]]
-            return ("link", model.frame_id(att.link), offset)
+        entry = scene.current_state.get_attached_frame(frame)
+        if entry is not None:
+            return ("link", model.frame_id(entry[0]), entry[1])
         try:
             return ("fixed", scene.get_frame_transform(frame))
         except KeyError as e:
-            raise KeyError(f"{what}: {e.args[0] if e.args else e}") from None
+            raise KeyError(f"{what}: {msgs.error_text(e)}") from None
 
 
 # ---------------------------------------------------------------------------------------------
@@ -437,7 +431,7 @@ class KinematicConstraintSet:
             return state.get_frame_transform(frame)
         except KeyError as e:
             raise KeyError(
-                f"constraint frame: {e.args[0] if e.args else e}; world objects need the planning scene "
+                f"constraint frame: {msgs.error_text(e)}; world objects need the planning scene "
                 "(pass scene=)"
             ) from None
 

@@ -1221,7 +1221,7 @@ class OMPLPipeline:
         try:
             tip, tip_offset = ik.resolve_tip(state, req.group.name, link)
         except (KeyError, ValueError) as e:
-            raise KeyError(f"pose goal: {e.args[0] if e.args else e}") from None
+            raise KeyError(f"pose goal: {msgs.error_text(e)}") from None
         link_target = target @ np.linalg.inv(tip_offset @ offset)
         solver = ik.get_ik_solver(scene.robot_model, req.group.name, tip)
         checker = req.checker

@@ -57,16 +57,10 @@ class PlannerResult:
         return bool(self.success)
 
 
-def error_text(e: Exception) -> str:
-    """An exception's message for a failure comment (a KeyError's without the quotes its str
-    adds)."""
-    return str(e.args[0]) if isinstance(e, KeyError) and e.args else str(e)
-
-
 def invalid_constraints(e: Exception) -> str:
     """The failure message of path constraints the robot or scene cannot evaluate (MoveIt's
     error code, as the OMPL and Pilz pipelines report it)."""
-    return error_message("INVALID_GOAL_CONSTRAINTS", f"invalid path constraints: {error_text(e)}")
+    return error_message("INVALID_GOAL_CONSTRAINTS", f"invalid path constraints: {msgs.error_text(e)}")
 
 
 def error_message(code: str, detail: str = "") -> str:

@@ -181,7 +181,7 @@ class PlanningSceneInterface:
         try:
             apply(msg)
         except KeyError as e:
-            log.error("PlanningSceneInterface: %s", e.args[0] if e.args else e)
+            log.error("PlanningSceneInterface: %s", msgs.error_text(e))
 
     def clear(self) -> None:
         """Detach every attached object and remove every world object."""

@@ -17,7 +17,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from mtc import msgs
-from mtc.scene.planning_scene import object_frame
 from mtc.scene.robot_state import plain_frame
 
 __all__ = [
@@ -82,11 +81,6 @@ class IKFrame:
     pose: np.ndarray
 
 
-def _attached_subframes(scene):
-    """``subframes(id)`` of :func:`object_frame` for the scene's attached objects."""
-    return lambda name: scene.get_attached_object(name).object.subframe_poses
-
-
 def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
     """The robot link a frame is fixed to, and the frame's 4x4 pose on that link.
 
@@ -106,17 +100,13 @@ def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
     frame = plain_frame(frame)
     if not frame or frame == scene.planning_frame:
         raise NotALinkFrameError(frame)
-    split = object_frame(frame, scene.attached_object_names, _attached_subframes(scene))
-    if split is not None and frame not in model.link_model_names:
-        attached = scene.get_attached_object(split[0])
-        state = scene.current_state
-        link, _ = model.rigid_parent_link(attached.link)
-        # the frame's pose on its link follows from the current transforms (state-independent)
-        offset = np.linalg.solve(state.get_global_link_transform(link), scene.get_frame_transform(frame))
-        return link, offset
-    if frame in model.link_model_names:
+    if model.has_link_model(frame):
         link, offset = model.rigid_parent_link(frame)
         return link, np.array(offset, dtype=float)
+    entry = scene.current_state.get_attached_frame(frame)
+    if entry is not None:
+        link, offset = model.rigid_parent_link(entry[0])
+        return link, offset @ entry[1]
     if scene.knows_frame_transform(frame):
         raise NotALinkFrameError(frame)  # a world object (or its subframe) does not move with the robot
     raise UnknownFrameError(frame)

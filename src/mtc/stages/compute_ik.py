@@ -46,7 +46,6 @@ from mtc.core.container import WrapperBase
 from mtc.core.properties import unsigned_int, valid_message
 from mtc.core.stage import InitStageError, Stage
 from mtc.core.storage import InterfaceState, SolutionBase, SubTrajectory
-from mtc.planners.planner_interface import error_text
 from mtc.scene.frames import rigid_inverse
 from mtc.stages._common import (
     FrameError,
@@ -333,7 +332,7 @@ class ComputeIK(WrapperBase):
                 constraint_set = KinematicConstraintSet(model, constraints)
                 constraint_set.bind(scene)  # (frames resolve in the scene: unknown ones fail here)
             except (KeyError, ValueError) as e:
-                self._fail(s, f"invalid constraints: {error_text(e)}", markers=failed_markers)
+                self._fail(s, f"invalid constraints: {msgs.error_text(e)}", markers=failed_markers)
                 return
 
         # 7. IK: the start state first, then random seeds; every distinct candidate is spawned

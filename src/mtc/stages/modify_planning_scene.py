@@ -177,7 +177,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
                 solution.markAsFailure(f"{a} colliding with {b}")
                 log.info("%s: colliding pairs: %s", self.name, format_collision_pairs(pairs))
         except KeyError as e:  # unknown object/link: the message is the first argument
-            solution.markAsFailure(str(e.args[0]) if e.args else repr(e))
+            solution.markAsFailure(msgs.error_text(e) if e.args else repr(e))
         except Exception as e:  # any failure to apply is a failure of this solution
             solution.markAsFailure(str(e) or type(e).__name__)
         return scene, solution
@@ -197,7 +197,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
             # as MTC, which ignores MoveIt's result here: removing or moving an object the scene
             # does not have (or adding one in an unknown frame) is logged and skipped
             log.error("cannot apply collision object '%s' (operation %d): %s", obj.id, obj.operation,
-                      e.args[0] if e.args else e)
+                      msgs.error_text(e))
 
     @staticmethod
     def _allowCollisions(scene, first: list[str], second, allow: bool) -> None:
@@ -230,7 +230,7 @@ def apply_attach(scene, names: list[str], link: str, attach: bool) -> None:
             )
         except KeyError as e:
             log.error("cannot %s object '%s' %s link '%s': %s", "attach" if attach else "detach", name,
-                      "to" if attach else "from", link, e.args[0] if e.args else e)
+                      "to" if attach else "from", link, msgs.error_text(e))
 
 
 def _copy_msg(msg):
