@@ -82,3 +82,12 @@ def test_core_imports_without_planners():
         "assert not hasattr(core, 'NoSuchPlanner')"
     )
     subprocess.run([sys.executable, "-c", code], check=True)
+
+
+def test_enable_introspection_keyword_is_the_bindings():
+    """MTC's Python binding names the argument ``enabled`` (C++: ``enable``, taken too)."""
+    t = core.Task()
+    t.enableIntrospection(enabled=False)
+    assert t._introspection_enabled is False
+    t.enableIntrospection(enable=True)
+    assert t._introspection_enabled is True

@@ -218,9 +218,12 @@ class Task(WrapperBase):
         self.setRobotModel(panda())
 
     # --- introspection -------------------------------------------------------------------
-    def enableIntrospection(self, enable: bool = True) -> None:
-        """Store failures from the next init on (and allow :meth:`introspection`)."""
-        self._introspection_enabled = enable = _flag(enable, "enable")
+    def enableIntrospection(self, enabled: bool = True, *, enable=None) -> None:
+        """Store failures from the next init on (and allow :meth:`introspection`). The keyword
+        is ``enabled`` (MTC's Python binding); C++'s ``enable`` is taken too."""
+        if enable is not None:
+            enabled = enable
+        self._introspection_enabled = enable = _flag(enabled, "enabled")
         if not enable:
             self._introspection_obj = None
             for stage in self._allStages():
