@@ -876,9 +876,9 @@ def _type_error(function: str, expected: str, value: object) -> TypeError:
 
 def _number(value: object, name: str) -> float:
     """Return ``value`` as a finite float, or raise naming the field ``name``."""
-    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (int, float, np.number)):
+    result = real_value(value)
+    if result is None:
         raise TypeError(f"{name} must be a number, got {type(value).__name__} {value!r}")
-    result = float(value)
     if not math.isfinite(result):
         raise ValueError(f"{name} must be finite, got {result}")
     return result
@@ -1142,10 +1142,11 @@ def is_bool(value: Any) -> bool:
     return isinstance(value, (bool, np.bool_))
 
 
-def real_value(value: Any) -> float | None:
+def real_value(value: Any, bools: bool = False) -> float | None:
     """``value`` as a float where ``float()`` reads it as a number (numbers, numpy scalars and
-    0-d numeric arrays, ``Decimal``, bools), else None (strings, bytes, other objects)."""
-    if isinstance(value, (str, bytes, bytearray)) or (
+    0-d numeric arrays, ``Decimal``; bools only with ``bools``), else None (strings, bytes,
+    other objects). The one number reader of costs, samplers, waypoint gaps and message fields."""
+    if isinstance(value, (str, bytes, bytearray)) or (not bools and is_bool(value)) or (
         isinstance(value, np.ndarray) and (value.ndim != 0 or value.dtype.kind not in "biuf")
     ):
         return None

@@ -226,6 +226,8 @@ def test_scene_state_and_trajectory_arguments(ready_scene, panda):
             traj.add_suffix_waypoint(RobotState(panda), dt)
         with pytest.raises(ValueError, match="dt must be a finite number of seconds >= 0"):
             traj.append(traj.copy(), dt)
+    with pytest.raises(TypeError, match="dt must be a number of seconds"):
+        traj.add_suffix_waypoint(RobotState(panda), True)  # (not 1 s: one number reader, no bools)
     assert len(traj) == 1 and traj.duration == 0.0
 
 

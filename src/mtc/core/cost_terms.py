@@ -55,7 +55,7 @@ def _cost_number(value, what: str, finite: bool = True) -> float:
     Raises:
         TypeError: not a number; ValueError: NaN or (``finite``) infinite; both naming ``what``.
     """
-    number = msgs.real_value(value) if not msgs.is_bool(value) else None
+    number = msgs.real_value(value)
     if number is None:
         raise TypeError(f"{what} must be a number, got {value!r}")
     value = number
@@ -107,7 +107,7 @@ def _normalize(result) -> tuple[float, str]:
             raise TypeError(f"a cost term returns a cost or a (cost, comment) pair, got {result!r}")
         result, comment = result
         comment = "" if comment is None else str(comment)
-    cost = msgs.real_value(result)  # (numpy scalars and 0-d arrays, Decimal, ... are numbers)
+    cost = msgs.real_value(result, bools=True)  # (as pybind11's double caster reads a return value)
     if cost is not None:
         return cost, comment
     raise TypeError(f"a cost term returns a cost (a number) or a (cost, comment) pair, got {result!r}")
