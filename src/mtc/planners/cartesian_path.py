@@ -153,9 +153,7 @@ class CartesianPath(PlannerInterface):
         """Move ``pose(link) · offset`` on a straight line to ``target`` (planning frame)."""
         props = self.properties
         jmg = self._group(from_scene, group)
-        step_size = float(props.get("step_size"))
-        if not step_size > 0:
-            raise ValueError(f"step_size must be positive, got {step_size}")
+        step_size = float(props.get("step_size"))  # (> 0: checked when set)
         precision: CartesianPrecision = props.get("precision")
         min_fraction = float(props.get("min_fraction"))
         try:

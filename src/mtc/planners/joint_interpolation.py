@@ -62,9 +62,7 @@ class JointInterpolationPlanner(PlannerInterface):
         """Interpolate from ``from_scene``'s state to ``to_scene``'s (as MTC: ``timeout`` and
         ``path_constraints`` are not used for joint goals)."""
         jmg = self._group(from_scene, group)
-        max_step = float(self.properties.get("max_step"))
-        if not max_step > 0:
-            raise ValueError(f"max_step must be positive, got {max_step}")
+        max_step = float(self.properties.get("max_step"))  # (> 0: checked when set)
         start = from_scene.current_state
         goal = to_scene.current_state
         if from_scene.robot_model.continuous_mask.any():

@@ -965,8 +965,6 @@ class OMPLPipeline:
         cls_name = resolve_planner_id(planner_id)
         self._check_args(timeout, attempts, goal_joint_tolerance, "goal_joint_tolerance")
         seed = _check_seed(seed)
-        if timeout == 0:
-            return self._no_time()
         if not isinstance(goal, RobotState):
             raise TypeError(f"goal must be a RobotState, not {type(goal).__name__}")
         req, failure = self._prepare(scene, start, group, timeout, path_constraints)
@@ -978,8 +976,8 @@ class OMPLPipeline:
         if failure is not None:
             # as MoveIt, whose joint goal is the region within the tolerance of every joint:
             # an invalid goal state is replaced by valid ones sampled in that region
-            goals = [] if failure.startswith("GOAL_STATE_INVALID") else \
-                self._joint_goal_region(req, x_goal, goal_joint_tolerance, seed)
+            # (a goal beyond its bounds by more than the tolerance leaves no region: none found)
+            goals = self._joint_goal_region(req, x_goal, goal_joint_tolerance, seed)
             if not goals:
                 return self._fail(req, failure)
         return self._solve(req, goals, cls_name, attempts, goal_joint_tolerance, seed)
@@ -993,12 +991,16 @@ class OMPLPipeline:
         if not np.all(hi > lo):
             return []
         rng = np.random.default_rng([int(seed), 3])
+        draws = rng.uniform(lo, hi, (GOAL_REGION_SAMPLES, len(x_goal)))
+        # closest first, checked only until enough are valid
+        order = np.argsort(np.abs(draws - x_goal).max(axis=1), kind="stable")
         found = []
-        for x in rng.uniform(lo, hi, (GOAL_REGION_SAMPLES, len(x_goal))):
+        for x in draws[order]:
             if req.within(x) and req.checker.state_ok(x):
                 found.append(x)
-        found.sort(key=lambda x: float(np.abs(x - x_goal).max()))
-        return found[:POSE_GOAL_SAMPLES]
+                if len(found) == POSE_GOAL_SAMPLES:
+                    break
+        return found
 
     def plan_pose(
         self,
@@ -1030,8 +1032,6 @@ class OMPLPipeline:
         self._check_args(timeout, attempts, goal_position_tolerance, "goal_position_tolerance")
         seed = _check_seed(seed)
         self._check_args(timeout, attempts, goal_orientation_tolerance, "goal_orientation_tolerance")
-        if timeout == 0:
-            return self._no_time()
         offset = np.eye(4) if offset is None else np.asarray(offset, dtype=float)
         target = np.asarray(target, dtype=float)
         for name, T in (("offset", offset), ("target", target)):
@@ -1057,18 +1057,15 @@ class OMPLPipeline:
         if not (isinstance(tolerance, (int, float)) and tolerance >= 0):
             raise ValueError(f"{tolerance_name} must be >= 0, got {tolerance!r}")
 
-    def _no_time(self):
-        """The failure of a request with a timeout of 0 (as MoveIt's OMPL, which stops at once)."""
-        self.last_stats = PlanStats()
-        return self._fail(None, "TIMED_OUT: a timeout of 0 s leaves no time to plan")
-
     def _prepare(self, scene, start, group, timeout, path_constraints):
         t0 = time.perf_counter()
+        self.last_stats = PlanStats()
+        if timeout == 0:  # (as MoveIt's OMPL, which stops at once)
+            return None, self._fail(None, "TIMED_OUT: a timeout of 0 s leaves no time to plan")
         if not math.isfinite(timeout):
             # an unbounded request (MTC's default timeout is infinite) still has to end when
             # the problem has no solution: MoveIt's default allowed_planning_time
             timeout = UNBOUNDED_TIMEOUT
-        self.last_stats = PlanStats()
         if not isinstance(scene, PlanningScene):
             raise TypeError(f"scene must be a PlanningScene, not {type(scene).__name__}")
         if not isinstance(start, RobotState):
