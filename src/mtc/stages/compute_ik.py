@@ -329,8 +329,9 @@ class ComputeIK(WrapperBase):
             from mtc.planners.constraints import KinematicConstraintSet
 
             try:
-                constraint_set = KinematicConstraintSet(model, constraints)
-                constraint_set.bind(scene)  # (frames resolve in the scene: unknown ones fail here)
+                # bound once to the scene (its frames; unknown ones fail here): the candidates'
+                # scenes differ from it only in the robot state
+                constraint_set = KinematicConstraintSet(model, constraints).bind(scene)
             except (KeyError, ValueError) as e:
                 self._fail(s, f"invalid constraints: {msgs.error_text(e)}", markers=failed_markers)
                 return
@@ -399,7 +400,7 @@ class ComputeIK(WrapperBase):
         if not ignore_collisions and new_scene.is_state_colliding(state, jmg.name):
             a, b = first_collision_pair(new_scene.get_collisions(state, jmg.name))
             solution.markAsFailure(f"Collision between {a} - {b}")  # (semantics §2.3; one contact)
-        elif constraint_set is not None and not constraint_set.satisfied(state, new_scene):
+        elif constraint_set is not None and not constraint_set(state.positions):
             solution.markAsFailure("Constraints violated")
         else:
             solution.cost = s.cost + solver.group_distance(q, reference)
