@@ -1006,8 +1006,8 @@ class Viewer:
             raise
         self._links = _visual_links(robot_model)
         self._nodes = _ObjectNodes()
-        self._drawn: set[str] = set()  # object node paths with geometry on the server
-        self._drawn_colors: dict[str, tuple[int, float]] = {}  # (colour, opacity) they were drawn in
+        # object node paths with geometry on the server -> the (colour, opacity) it was drawn in
+        self._drawn: dict[str, tuple[int, float]] = {}
         self._animated_visibility: set[str] = set()  # object paths the loaded animation shows/hides
         # object node paths -> the visibility the page has: sent only when it changes, as the
         # server keeps every set_property it gets (and replays them all to each new page);
@@ -1099,7 +1099,7 @@ class Viewer:
             self._send_transform(path, placement.pose(state))
             self._send_visible(path, True)
             shown.add(path)
-        self._delete_objects(self._drawn - shown)
+        self._delete_objects(self._drawn.keys() - shown)
         self._scene = scene.copy()
         self.show_state(state)
 
@@ -1183,7 +1183,7 @@ class Viewer:
         object_paths = {p for p in anim.tracks if p.startswith("objects/")}
         for path in sorted(object_paths):
             self._draw_object(path, self._nodes.representative(path))
-        self._delete_objects(self._drawn - object_paths)
+        self._delete_objects(self._drawn.keys() - object_paths)
         # the final frame as static transforms: what a page shows once the animation ends
         for path, track in anim.tracks.items():
             T, visible = track.sample(anim.duration)
@@ -1292,7 +1292,7 @@ class Viewer:
 
     def _draw_object(self, path: str, obj: WorldObject) -> None:
         color, opacity = self._nodes.color(path)
-        if path in self._drawn and self._drawn_colors.get(path) == (color, opacity):
+        if self._drawn.get(path) == (color, opacity):
             return
         geometries = obj.geometries or (None,) * len(obj.shapes)
         for k, (shape, pose, geom) in enumerate(zip(obj.shapes, obj.shape_poses, geometries)):
@@ -1304,14 +1304,12 @@ class Viewer:
             self._send_transform(f"{path}/{k}", T)
         if path not in self._drawn:
             self._visibility[path] = True  # a new node (deleting one forgets it)
-        self._drawn.add(path)
-        self._drawn_colors[path] = (color, opacity)
+        self._drawn[path] = (color, opacity)
 
     def _delete_objects(self, paths: Iterable[str]) -> None:
         for path in sorted(paths):
             self._send_delete(path)
-            self._drawn.discard(path)
-            self._drawn_colors.pop(path, None)
+            self._drawn.pop(path, None)
             self._visibility.pop(path, None)
 
     def _stop_animation(self) -> bool:
