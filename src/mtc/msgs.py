@@ -1156,6 +1156,18 @@ def real_value(value: Any, bools: bool = False) -> float | None:
         return None
 
 
+def flag(value: Any, name: str) -> bool:
+    """A flag argument as a bool: True, False, or a number read as one (as pybind11's bool
+    caster reads arguments).
+
+    Raises:
+        TypeError: anything else, naming ``name``.
+    """
+    if not (is_bool(value) or is_number(value)):
+        raise TypeError(f"{name} must be True or False, got {value!r}")
+    return bool(value)
+
+
 def is_number(value: Any, integral: bool = False) -> bool:
     """Whether ``value`` is a real number (an integer with ``integral``), numpy's included, and
     not a bool (which Python counts as an int)."""

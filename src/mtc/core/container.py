@@ -159,7 +159,7 @@ class ContainerBase(Stage):
             if any(stage is other for other in stages[:i]):
                 raise RuntimeError(f"Tried to add stage '{stage._name}' to two parents")
         for stage in stages:
-            self.insert(stage, -1)
+            self.insert(stage, -1)  # (subclasses' insert rules apply: a wrapper holds one child)
 
     def _check_child(self, stage) -> None:
         """Raise if ``stage`` cannot become a child of this container."""
@@ -228,9 +228,7 @@ class ContainerBase(Stage):
                 raise IndexError(f"no child '{key}' in '{self._name}' (children: "
                                  f"{', '.join(repr(c._name) for c in self._children) or 'none'})")
             return child
-        if not msgs.is_number(key, integral=True):
-            raise TypeError(f"container index must be an int or a name, got {type(key).__name__}")
-        i = self._childByIndex(int(key), False)
+        i = self._childByIndex(_index(key, "container index"), False)
         if i >= len(self._children):
             raise IndexError(f"child index {key} out of range ({len(self._children)} children in '{self._name}')")
         return self._children[i]

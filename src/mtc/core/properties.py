@@ -134,7 +134,7 @@ def _source(value) -> int:
         )
     value = int(value)
     if value & ~int(PropertyInitializerSource.MANUAL | PropertyInitializerSource.PARENT
-                    | PropertyInitializerSource.INTERFACE) or value < 0:
+                    | PropertyInitializerSource.INTERFACE):  # (a negative value has such bits)
         raise ValueError(f"unknown initializer source {value} (PARENT=2, INTERFACE=4, or both OR-ed)")
     return value
 

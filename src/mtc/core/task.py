@@ -84,13 +84,6 @@ def _normalize_ns(ns: str) -> str:
 
 
 
-def _flag(value, name: str) -> bool:
-    """A flag argument: a bool, or a number read as one (as pybind11's bool caster does)."""
-    if not (msgs.is_bool(value) or msgs.is_number(value)):
-        raise TypeError(f"{name} must be True or False, got {value!r}")
-    return bool(value)
-
-
 class Task(WrapperBase):
     """The root of a stage tree: adds stages to its root container and plans.
 
@@ -115,7 +108,7 @@ class Task(WrapperBase):
         self._robot_model = None
         self._task_cbs: list[Callable] = []
         self._preempt_flag = _PreemptFlag()
-        self._introspection_enabled = _flag(introspection, "introspection")
+        self._introspection_enabled = msgs.flag(introspection, "introspection")
         self._introspection_obj = None
         self._plan_lock = threading.Lock()
         self.setPruning(False)
@@ -223,7 +216,7 @@ class Task(WrapperBase):
         is ``enabled`` (MTC's Python binding); C++'s ``enable`` is taken too."""
         if enable is not None:
             enabled = enable
-        self._introspection_enabled = enable = _flag(enabled, "enabled")
+        self._introspection_enabled = enable = msgs.flag(enabled, "enabled")
         if not enable:
             self._introspection_obj = None
             for stage in self._allStages():

@@ -110,14 +110,11 @@ class GenerateRandomPose(GeneratePose):
             ValueError: Unknown dimension or distribution, or a negative width.
             TypeError: ``width`` is neither a number nor a callable.
         """
-        try:
-            if not msgs.is_number(dimension, integral=True):
-                raise TypeError
-            dim = PoseDimension(int(dimension))
-        except (ValueError, TypeError):
+        if not (msgs.is_number(dimension, integral=True) and int(dimension) in PoseDimension._value2member_map_):
             raise ValueError(
                 f"unknown pose dimension {dimension!r} (PoseDimension: {', '.join(d.name for d in PoseDimension)})"
-            ) from None
+            )
+        dim = PoseDimension(int(dimension))
         if callable(width):
             fn = width
 

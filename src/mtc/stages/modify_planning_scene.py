@@ -77,9 +77,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
         names = _names(names, "object names")
         if not isinstance(attach_link, str) or not attach_link:
             raise InvalidNamesError(f"attach link must be a non-empty link name, got {attach_link!r}")
-        if not msgs.is_bool(attach):
-            raise TypeError(f"attach must be True or False, got {attach!r}")
-        attach = bool(attach)
+        attach = msgs.flag(attach, "attach")
         self._attach_objects.append((names, attach_link, attach))
 
     def detachObjects(self, names, attach_link: str) -> None:
@@ -129,9 +127,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
         if msgs.is_bool(second) and enable_collision is True:
             # allowCollisions(object, allow) written positionally
             second, enable_collision = None, second
-        if not msgs.is_bool(enable_collision):
-            raise TypeError(f"enable_collision must be True or False, got {enable_collision!r}")
-        enable_collision = bool(enable_collision)
+        enable_collision = msgs.flag(enable_collision, "enable_collision")
         firsts = _names(first, "first")
         if second is None:
             self._collision_matrix_edits.append((firsts, None, enable_collision))
