@@ -1064,8 +1064,9 @@ class PlanningScene:
         trial = self.copy()
         for obj in world.collision_objects:
             trial.apply_collision_object(obj)
-        for obj in world.collision_objects:
-            self.apply_collision_object(obj)
+        # every object applied: the trial's world (and colours) become this scene's
+        self._world, self._world_token, self._colors = trial._world, trial._world_token, trial._colors
+        self._shared |= 1  # (the trial may still share it)
 
     apply_planning_scene_world = process_planning_scene_world
 
@@ -1205,13 +1206,20 @@ class PlanningScene:
 
     # ------------------------------------------------------------------ frames
     def _attached_frame(self, frame: str):
-        """(link, offset) of an attached object or its subframe, else None."""
-        split = object_frame(plain_frame(frame), self._attached, lambda i: self._attached[i].object.subframe_poses)
+        """(link, offset) of an attached object or its subframe (a name without a leading "/"),
+        else None."""
+        split = object_frame(frame, self._attached, self._attached_subframes)
         if split is None:
             return None
         att = self._attached[split[0]]
         offset = att.object.pose
         return att.link, (offset @ att.object.subframe_poses[split[1]] if split[1] else offset)
+
+    def _attached_subframes(self, name: str):
+        return self._attached[name].object.subframe_poses
+
+    def _world_subframes(self, name: str):
+        return self._world[name].subframe_poses
 
     def get_frame_transform(self, frame: str) -> np.ndarray:
         """4x4 pose in the planning frame of a link, a world or attached object, or an object's
@@ -1229,7 +1237,7 @@ class PlanningScene:
         entry = self._attached_frame(frame)
         if entry is not None:
             return self._state.get_global_link_transform(entry[0]) @ entry[1]
-        split = object_frame(frame, self._world, lambda i: self._world[i].subframe_poses)
+        split = object_frame(frame, self._world, self._world_subframes)
         if split is not None:
             obj, sub = self._world[split[0]], split[1]
             return obj.pose @ obj.subframe_poses[sub] if sub else obj.pose.copy()

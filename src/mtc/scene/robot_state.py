@@ -292,7 +292,7 @@ class RobotState:
         # as MoveIt: links first, then attached objects
         if frame in self._model._frame_ids:
             return self.get_global_link_transform(frame)
-        entry = self.get_attached_frame(frame)
+        entry = None if self._attached_frames is None else self._attached_frames(frame)
         if entry is not None:
             link, offset = entry
             return self.get_global_link_transform(link) @ offset
@@ -306,7 +306,7 @@ class RobotState:
         its fixed 4x4 pose in that link's frame. ``None`` for anything else."""
         if self._attached_frames is None:
             return None
-        return self._attached_frames(frame)
+        return self._attached_frames(plain_frame(frame))
 
     def knows_frame_transform(self, frame: str) -> bool:
         try:
