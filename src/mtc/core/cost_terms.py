@@ -17,7 +17,6 @@ from __future__ import annotations
 import inspect
 import logging
 import math
-import weakref
 from collections.abc import Callable, Mapping, Sequence
 from enum import IntEnum
 
@@ -44,9 +43,6 @@ INF = math.inf
 
 
 log = logging.getLogger(__name__)
-
-#: per robot model, the cost terms that logged its unknown joints (see _known_weights)
-_LOGGED_UNKNOWN: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
 
 
 def _cost_number(value, what: str, finite: bool = True) -> float:
@@ -90,9 +86,9 @@ def _known_weights(term, weights: dict[str, float], model, what: str) -> list[st
     as MoveIt's lookup of them, that is logged as an error (once per term and robot)."""
     unknown = _unknown_joints(model, weights, what)
     if unknown:
-        logged = _LOGGED_UNKNOWN.setdefault(model, set())
-        if id(term) not in logged:  # (kept beside the term, which stays picklable)
-            logged.add(id(term))
+        logged = term.__dict__.setdefault("_logged_unknown", set())  # (robot names: picklable)
+        if model.name not in logged:
+            logged.add(model.name)
             log.error("%s; they are left out", unknown)
         return [n for n in weights if n in model._var_index]
     return list(weights)
@@ -313,15 +309,13 @@ class DistanceToReference(TrajectoryCostTerm):
         self.mode = TrajectoryCostTerm.Mode(mode)
         self.weights = _joint_numbers(weights if weights is not None else {}, "DistanceToReference weight")
 
-    def _distance(self, ref_state, state) -> float:
-        if not self.weights:
+    def _distance(self, ref_state, state, weighted) -> float:
+        """Distance of ``state`` to ``ref_state``: over all joints, or ``weighted`` = (names,
+        weights) of the known weighted joints (worked out once per solution)."""
+        if weighted is None:
             return float(ref_state.distance(state))
-        model = state.robot_model
-        names = _known_weights(self, self.weights, model, "DistanceToReference weights")
-        if not names:
-            return 0.0
-        w = np.array([self.weights[n] for n in names])
-        return float(w @ _joint_distances(model, ref_state, state, names))
+        names, w = weighted
+        return float(w @ _joint_distances(state.robot_model, ref_state, state, names)) if names else 0.0
 
     def __call__(self, solution):
         mode = self.mode
@@ -333,15 +327,19 @@ class DistanceToReference(TrajectoryCostTerm):
         if unknown:
             return INF, unknown
         ref.set_variable_positions(self.reference)
+        weighted = None
+        if self.weights:
+            names = _known_weights(self, self.weights, ref.robot_model, "DistanceToReference weights")
+            weighted = names, np.array([self.weights[n] for n in names])
         traj = solution.trajectory
         if mode in (TrajectoryCostTerm.Mode.START_INTERFACE, TrajectoryCostTerm.Mode.END_INTERFACE) or (
             mode == TrajectoryCostTerm.Mode.AUTO and (traj is None or len(traj) == 0)
         ):
-            return self._distance(ref, interface_state.scene.current_state)
+            return self._distance(ref, interface_state.scene.current_state, weighted)
         wps = _waypoints(traj)
         if not wps:
             return 0.0
-        return sum(self._distance(ref, w) for w in wps) / len(wps)
+        return sum(self._distance(ref, w, weighted) for w in wps) / len(wps)
 
 
 class TrajectoryDuration(TrajectoryCostTerm):
