@@ -76,15 +76,20 @@ class RobotTrajectory:
         times = np.zeros(n) if times is None else np.asarray(times, dtype=float)
         if times.shape != (n,):
             raise ValueError(f"times must have {n} values (one per row of positions), got shape {times.shape}")
+        traj._set_rows(reference, traj._group.variable_indices, positions, times)
+        return traj
+
+    def _set_rows(self, reference: RobotState, cols, rows: np.ndarray, times: np.ndarray) -> None:
+        """Waypoints: ``reference`` with the variables ``cols`` set to each row of ``rows``, at
+        ``times`` from start (no velocities or efforts yet)."""
         # one matrix of full variable vectors, mimic joints set in one go; each waypoint
         # owns a row of it
-        full = np.repeat(reference.positions[None, :], n, axis=0)
-        full[:, traj._group.variable_indices] = positions
-        robot_model.enforce_mimic(full)
-        traj.waypoints = [reference._with_positions(q, follow=False) for q in full]
-        traj._durations = np.diff(times, prepend=0.0).tolist()
-        traj._efforts = [None] * n
-        return traj
+        full = np.repeat(reference.positions[None, :], len(rows), axis=0)
+        full[:, cols] = rows
+        self._model.enforce_mimic(full)
+        self.waypoints = [reference._with_positions(q, follow=False) for q in full]
+        self._durations = np.diff(times, prepend=0.0).tolist()
+        self._efforts = [None] * len(rows)
 
     # ------------------------------------------------------------------ moveit_py API
     @property
@@ -375,9 +380,6 @@ class RobotTrajectory:
         times = np.array([float(p.time_from_start) for p in points])
         if np.any(np.diff(times, prepend=0.0) < 0):
             raise ValueError("the points' time_from_start must not decrease (nor be negative)")
-        full = np.repeat(robot_state.positions[None, :], len(points), axis=0)
-        full[:, cols] = P
-        self._model.enforce_mimic(full)
         group_cols = [names.index(n) if n in names else -1 for n in self.joint_names]
 
         def derivative(field: str) -> np.ndarray | None:
@@ -386,11 +388,9 @@ class RobotTrajectory:
                 return None
             return np.asarray(rows, dtype=float)[:, group_cols]
 
-        self.waypoints = [robot_state._with_positions(q, follow=False) for q in full]
-        self._durations = np.diff(times, prepend=0.0).tolist()
+        self._set_rows(robot_state, cols, P, times)
         self.velocities = derivative("velocities")
         self.accelerations = derivative("accelerations")
-        self._efforts = [None] * len(points)
 
     def __repr__(self) -> str:
         return (
