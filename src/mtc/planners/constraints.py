@@ -571,11 +571,11 @@ class ConstraintEvaluator:
     def _outside(self, p: _Position, link_ref, frame_ref) -> float:
         """Distance [m] of position constraint ``p``'s point outside its nearest region, at the
         kinematics last computed."""
-        point = self._pose(link_ref).act(p.offset)
-        header = self._pose(frame_ref)
+        # the point in the constraint's header frame once, then in each region's
+        point = self._pose(frame_ref).actInv(self._pose(link_ref).act(p.offset))
         best = math.inf
         for r in p.regions:
-            best = min(best, r.outside_local((r.pose_inv * header.inverse()).act(point)))
+            best = min(best, r.outside_local(r.pose_inv.act(point)))
             if best == 0.0:
                 break
         return best

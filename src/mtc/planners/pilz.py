@@ -438,13 +438,12 @@ class PilzPipeline:
         trans_v, trans_a = lim.max_trans_vel * vs, lim.max_trans_acc * acs
         rot_v = lim.max_rot_vel * vs
         rot_a = lim.max_trans_acc / lim.max_trans_vel * lim.max_rot_vel * acs
-        trans_d, rot_d = trans_a, rot_a
         # limits on the path fraction s in [0, 1] (whichever of translation and rotation is slower)
-        v_s, a_s, d_s = math.inf, math.inf, math.inf
+        v_s, a_s = math.inf, math.inf
         if length > 1e-9:
-            v_s, a_s, d_s = min(v_s, trans_v / length), min(a_s, trans_a / length), min(d_s, trans_d / length)
+            v_s, a_s = min(v_s, trans_v / length), min(a_s, trans_a / length)
         if rot_angle > 1e-9:
-            v_s, a_s, d_s = min(v_s, rot_v / rot_angle), min(a_s, rot_a / rot_angle), min(d_s, rot_d / rot_angle)
+            v_s, a_s = min(v_s, rot_v / rot_angle), min(a_s, rot_a / rot_angle)
         idx = jmg.variable_indices
         if not math.isfinite(v_s):
             # start and goal coincide: nothing to move
@@ -454,7 +453,7 @@ class PilzPipeline:
             return PlannerResult(True, ""), self._trajectory(start, jmg, Q, [0.0], zeros, zeros)
 
         # the geometry first: waypoints evenly spaced along the path, each solved by IK
-        duration = TrapezoidProfile(1.0, v_s, a_s, d_s).duration
+        duration = TrapezoidProfile(1.0, v_s, a_s).duration
         steps = max(
             2,
             math.ceil(length / self.max_cartesian_step - 1e-9),
@@ -493,16 +492,16 @@ class PilzPipeline:
         ddq = np.gradient(dq, fractions, axis=0)
         vmax = model.velocity_limits[idx] * vs
         amax = model.acceleration_limits[idx] * acs
-        times, V, A = self._time_path(dq, ddq, fractions, v_s, a_s, d_s, vmax, amax)
+        times, V, A = self._time_path(dq, ddq, fractions, v_s, a_s, vmax, amax)
         return PlannerResult(True, ""), self._trajectory(start, jmg, Q, times, V, A)
 
     @staticmethod
-    def _time_path(dq, ddq, fractions, v_s, a_s, d_s, vmax, amax):
+    def _time_path(dq, ddq, fractions, v_s, a_s, vmax, amax):
         """Times, velocities and accelerations of the waypoints at ``fractions`` under a
-        trapezoid of the fraction; the trapezoid's limits shrink until the joints keep theirs
-        (MoveIt's Pilz fails where the joint limits would be violated)."""
+        symmetric trapezoid of the fraction; the trapezoid's limits shrink until the joints keep
+        theirs (MoveIt's Pilz fails where the joint limits would be violated)."""
         for _ in range(8):
-            profile = TrapezoidProfile(1.0, v_s, a_s, d_s)
+            profile = TrapezoidProfile(1.0, v_s, a_s)
             times = np.array([profile.time_at(float(s)) for s in fractions])
             S = np.array([profile.at_time(t) for t in times])
             V = dq * S[:, 1:2]
@@ -515,7 +514,6 @@ class PilzPipeline:
                 v_s /= rv * (1.0 + 1e-6)
             if ra > 1.0:
                 a_s /= ra * (1.0 + 1e-6)
-                d_s /= ra * (1.0 + 1e-6)
         # still too fast (curvature terms): stretch time uniformly, which scales V by 1/λ, A by 1/λ²
         scale = max(1.0, rv, math.sqrt(ra)) * (1.0 + 1e-9)
         return times * scale, V / scale, A / (scale * scale)
