@@ -152,6 +152,62 @@ def test_straight_line_matches_the_trapezoid(panda, distance):
     assert traj.duration == pytest.approx(expected, rel=1e-3)
 
 
+def _trapezoid_times(s, length, speed, accel):
+    """Times at which the rest-to-rest trapezoid (triangle) of the given limits reaches ``s``."""
+    ramp = min(speed * speed / (2 * accel), length / 2)
+    peak = math.sqrt(2 * accel * ramp)
+    total = 2 * peak / accel + (length - 2 * ramp) / peak
+    return np.array([
+        math.sqrt(2 * x / accel) if x < ramp
+        else total - math.sqrt(2 * (length - x) / accel) if x > length - ramp
+        else peak / accel + (x - ramp) / peak
+        for x in s
+    ])
+
+
+@pytest.mark.parametrize("scale", [0.03, 1.0])
+def test_waypoints_on_one_line_are_timed_exactly(panda, scale):
+    """Waypoints in order on one straight joint-space segment (unevenly spaced, several joints
+    moving): every waypoint's time, velocity and acceleration is the exact trapezoid's of the
+    path coordinate, with the largest speed and acceleration every joint allows (the grid
+    passes come within 1e-4 of it)."""
+    start = _ready(panda).get_joint_group_positions("panda_arm")
+    direction = np.array([0.9, -0.4, 0.3, 1.2, 0.0, -0.7, 0.5]) * scale
+    f = np.array([0.0, 0.05, 0.1, 0.4, 0.45, 0.8, 0.97, 1.0])
+    P = start + f[:, None] * direction
+    traj = time_parameterize(RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), P), 0.5, 0.8)
+    vmax, amax = _limits(panda, 0.5, 0.8)
+    length = float(np.linalg.norm(direction))
+    u = direction / length
+    moving = u != 0
+    speed = float(np.min(vmax[moving] / np.abs(u[moving])))
+    accel = float(np.min(amax[moving] / np.abs(u[moving])))
+    expected = _trapezoid_times(f * length, length, speed, accel)
+    assert np.allclose(traj.times, expected, rtol=1e-12, atol=1e-12)
+    assert np.all(np.abs(traj.velocities) <= vmax * (1 + 1e-12))
+    assert np.all(np.abs(traj.accelerations) <= amax * (1 + 1e-12))
+    assert np.allclose(traj.velocities[[0, -1]], 0.0)
+    assert np.allclose(traj.accelerations[0], accel * u) and np.allclose(traj.accelerations[-1], -accel * u)
+
+
+def test_a_line_driven_there_and_back_stops_at_the_turn(panda):
+    """Waypoints out along a line and back along it are not one straight motion: the arm comes
+    to rest at the turning waypoint, and the motion takes about twice the one-way trapezoid."""
+    start = _ready(panda).get_joint_group_positions("panda_arm")
+    direction = np.zeros(7)
+    direction[3] = 0.6
+    f = np.concatenate((np.linspace(0, 1, 6), np.linspace(1, 0, 6)[1:]))
+    traj = time_parameterize(
+        RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), start + f[:, None] * direction)
+    )
+    one_way = time_parameterize(
+        RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), start + np.array([[0.0], [1.0]]) * direction)
+    )
+    assert np.allclose(traj.velocities[5], 0.0, atol=1e-9)
+    # (the grid passes time the turn's neighbourhood within 3 % of the optimum)
+    assert 2 * one_way.duration * (1 - 1e-9) <= traj.duration <= 2 * one_way.duration * 1.03
+
+
 def test_scaling_slows_down(panda):
     """Halving the velocity limits of a velocity-bound motion roughly doubles its duration."""
     traj = _curved_path(panda, np.random.default_rng(3))
