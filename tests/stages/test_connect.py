@@ -138,6 +138,83 @@ def test_worlds_must_agree(make_task, ready_scene, box):
     assert c.numFailures() == 0
 
 
+def _explanation(task) -> str:
+    import io
+
+    out = io.StringIO()
+    task.explainFailure(out)
+    return out.getvalue()
+
+
+def test_explain_failure_names_a_connect_whose_pairs_were_incompatible(make_task, ready_scene, box):
+    """Beyond MTC (where only a log line says it): a failed task whose Connect never ran
+    because its state pairs were incompatible names the Connect, the number of pairs turned
+    down and the first reason."""
+    c = arm_connect()
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", goal_scene(ready_scene, hand="close")))
+    assert not task.plan()
+    text = _explanation(task)
+    assert "connect (0/0): 1 pair of states incompatible, not planned: " in text
+    assert "deviation in joint panda_finger_joint1: 0 != 0.035" in text
+
+    end = goal_scene(ready_scene)
+    end.apply_collision_object(box("crate", (0.6, 0.4, 0.9)))
+    c = arm_connect()
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
+    assert not task.plan()
+    assert "collision objects in one scene only: crate" in _explanation(task)
+
+    starts = core.Alternatives("starts")
+    starts.add(stages.FixedState("a", goal_scene(ready_scene, hand="close")), stages.FixedState("b", goal_scene(ready_scene, "transport", "close")))
+    c = arm_connect()
+    task = make_task(starts, c, stages.FixedState("end", goal_scene(ready_scene)))
+    assert not task.plan()
+    assert "connect (0/0): 2 pairs of states incompatible" in _explanation(task)
+    task.reset()
+    assert c._incompatible == 0  # counted per plan
+    assert "incompatible" not in _explanation(task)
+
+
+def test_attached_objects_must_agree_and_are_named(make_task, ready_scene, box):
+    """An object attached on one side only keeps the pair apart; the explanation names it."""
+    end = goal_scene(ready_scene)
+    end.apply_collision_object(box("crate", (0.6, 0.4, 0.9)))
+    start = ready_scene.diff()
+    start.apply_collision_object(box("crate", (0.6, 0.4, 0.9)))
+    start.attach_object("crate", "panda_hand")
+    c = arm_connect()
+    task = make_task(stages.FixedState("start", start), c, stages.FixedState("end", end))
+    assert not task.plan()
+    assert c.numFailures() == 0
+    assert "in one scene only: crate" in _explanation(task)
+
+
+def test_a_stage_that_failed_is_explained_first(make_task, ready_scene):
+    """MTC's explanation comes first: a stage with failures is named even where a Connect also
+    turned pairs down."""
+    task = make_task(stages.CurrentState(), arm_connect(), stages.FixedState("end", goal_scene(ready_scene, hand="close")))
+    task.add(stages.Connect("second", [("panda_arm", RecordingPlanner())]))
+    task.add(stages.FixedState("far", goal_scene(ready_scene, hand="close")))
+    assert not task.plan()
+    text = _explanation(task)
+    assert "second (0/1): no way" in text and "incompatible" not in text
+
+
+def test_a_custom_compatible_is_counted_too(make_task, ready_scene):
+    """A Python Connecting whose own compatible() turns pairs down is named with that."""
+
+    class Picky(core.Connecting):
+        def compatible(self, from_state, to_state):
+            return False
+
+        def compute(self, from_state, to_state):  # pragma: no cover - never paired
+            raise AssertionError("no pair is compatible")
+
+    task = make_task(stages.CurrentState(), Picky("picky"), stages.FixedState("end", goal_scene(ready_scene)))
+    assert not task.plan()
+    assert "picky (0/0): 1 pair of states incompatible, not planned: Picky.compatible() returned False" in _explanation(task)
+
+
 def test_planner_failure_comment(make_task, ready_scene, box):
     """A planner failure is the connection's failure comment (here: a box on the straight line)."""
     start = ready_scene.diff()

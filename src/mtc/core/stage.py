@@ -1929,6 +1929,11 @@ class Connecting(ComputeBase):
         self._starts = _LazyInterface(self._newStartState)
         self._ends = _LazyInterface(self._newEndState)
         self._pending = _PendingPairs(self)
+        # pairs compatible() turned down since the last reset, and why the first was: the
+        # answer to "why did this Connect never run" (see Task.explainFailure)
+        self._incompatible = 0
+        self._incompatible_reason = ""
+        self._reason: str | None = None  # set by compatible() while it turns a pair down
 
     def requiredInterface(self) -> int:
         return CONNECT
@@ -1940,7 +1945,19 @@ class Connecting(ComputeBase):
 
     def _resetBookkeeping(self) -> None:
         self._pending.clear()
+        self._incompatible = 0
+        self._incompatible_reason = ""
         super()._resetBookkeeping()
+
+    def _compatible_pair(self, state: InterfaceState, other: InterfaceState) -> bool:
+        """:meth:`compatible`, counting the pairs it turns down."""
+        self._reason = None
+        if self.compatible(state, other):
+            return True
+        if not self._incompatible:
+            self._incompatible_reason = self._reason or f"{type(self).__name__}.compatible() returned False"
+        self._incompatible += 1
+        return False
 
     def _canCompute(self) -> bool:
         pending = self._pending
@@ -2037,7 +2054,7 @@ class Connecting(ComputeBase):
         to_enable = []
         for o in list(other):
             # as MTC: the new state is always the first argument
-            if not self.compatible(state, o):
+            if not self._compatible_pair(state, o):
                 continue
             ostatus = o._priority[0]
             if ostatus == 1:  # ARMED: re-enable
@@ -2066,59 +2083,51 @@ class Connecting(ComputeBase):
 
     def compatible(self, from_state: InterfaceState, to_state: InterfaceState) -> bool:
         """Whether two states' scenes agree on world and attached objects (poses within 1e-4)."""
-        return scenes_compatible(from_state.scene, to_state.scene, self._name)
+        reason = scenes_incompatibility(from_state.scene, to_state.scene)
+        if reason:
+            log.debug("%s: %s", self._name, reason)
+            self._reason = reason
+        return not reason
 
 
 def _close(a, b, tol: float = 1e-4) -> bool:
     return bool(np.all(np.abs(np.asarray(a, dtype=float) - np.asarray(b, dtype=float)) <= tol))
 
 
-def scenes_compatible(a, b, name: str = "") -> bool:
-    """MTC's ``Connecting::compatible`` on two planning scenes (reasons logged at debug level)."""
+def scenes_incompatibility(a, b) -> str:
+    """Why two planning scenes fail MTC's ``Connecting::compatible`` (the first of its
+    reasons), or "" if they pass: the same world objects at the same poses, and the same
+    objects attached to the same links (poses within 1e-4)."""
     if a is b or a._same_objects(b):
-        return True
+        return ""
     a_names = list(a.world_object_names)
     b_names = set(b.world_object_names)
-    if len(a_names) != len(b_names):
-        log.debug("%s: different number of collision objects", name)
-        return False
+    if b_names.symmetric_difference(a_names):
+        return f"collision objects in one scene only: {', '.join(sorted(b_names.symmetric_difference(a_names)))}"
     for obj_name in a_names:
-        if obj_name not in b_names:
-            log.debug("%s: object missing: %s", name, obj_name)
-            return False
         oa = a.get_world_object(obj_name)
         ob = b.get_world_object(obj_name)
         if not _close(oa.pose, ob.pose):
-            log.debug("%s: different object pose: %s", name, obj_name)
-            return False
+            return f"different object pose: {obj_name}"
         if len(oa.shape_poses) != len(ob.shape_poses):
-            log.debug("%s: different object shapes: %s", name, obj_name)
-            return False
+            return f"different object shapes: {obj_name}"
         for pa, pb in zip(oa.shape_poses, ob.shape_poses):
             if not _close(pa, pb):
-                log.debug("%s: different shape pose: %s", name, obj_name)
-                return False
+                return f"different shape pose: {obj_name}"
     a_att = list(a.attached_object_names)
     b_att = set(b.attached_object_names)
-    if len(a_att) != len(b_att):
-        log.debug("%s: different number of objects", name)
-        return False
+    if b_att.symmetric_difference(a_att):
+        return f"objects attached in one scene only: {', '.join(sorted(b_att.symmetric_difference(a_att)))}"
     for obj_name in a_att:
-        if obj_name not in b_att:
-            log.debug("%s: object missing: %s", name, obj_name)
-            return False
         oa = a.get_attached_object(obj_name)
         ob = b.get_attached_object(obj_name)
         if oa.link != ob.link:
-            log.debug("%s: different attach links: %s attached to %s vs. %s", name, obj_name, oa.link, ob.link)
-            return False
+            return f"different attach links: {obj_name} attached to {oa.link} vs. {ob.link}"
         sa, sb = oa.object.shape_poses, ob.object.shape_poses
         if len(sa) != len(sb):
-            log.debug("%s: different object shapes: %s", name, obj_name)
-            return False
+            return f"different object shapes: {obj_name}"
         # shape poses in the link frame
         for pa, pb in zip(sa, sb):
             if not _close(np.asarray(oa.object.pose) @ np.asarray(pa), np.asarray(ob.object.pose) @ np.asarray(pb)):
-                log.debug("%s: different pose of attached object shape: %s", name, obj_name)
-                return False
-    return True
+                return f"different pose of attached object shape: {obj_name}"
+    return ""

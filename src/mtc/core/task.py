@@ -19,7 +19,7 @@ from collections.abc import Callable
 from mtc import msgs
 from mtc.core.container import ContainerBase, SerialContainer, WrapperBase
 from mtc.core.properties import PropertyMap
-from mtc.core.stage import GENERATE, PreemptStageError, Stage
+from mtc.core.stage import GENERATE, Connecting, PreemptStageError, Stage
 from mtc.core.storage import SolutionBase, Solutions
 
 __all__ = ["MoveItErrorCode", "Task"]
@@ -388,10 +388,25 @@ class Task(WrapperBase):
         return out.getvalue()
 
     def explainFailure(self, file=None) -> bool:
-        """Print ``Failing stage(s):`` and the first failing stage with its first failure comment."""
+        """Print ``Failing stage(s):`` and the first failing stage with its first failure comment.
+
+        Beyond MTC: where no stage failed, a connecting stage without solutions that turned
+        pairs of states down as incompatible (its only trace in MTC is a log line) is named
+        with the number of pairs and the first reason, e.g. ``connect (0/0): 1 pair of states
+        incompatible, not planned: deviation in joint panda_finger_joint1: 0 != 0.035``."""
         out = sys.stdout if file is None else file
         out.write("Failing stage(s):\n")
-        return self._children[0].explainFailure(out)
+        if self._children[0].explainFailure(out):
+            return True
+        for stage in self._allStages():
+            if isinstance(stage, Connecting) and stage._incompatible and not stage._solutions:
+                n = stage._incompatible
+                out.write(
+                    f"{stage._name} (0/{stage._num_failures}): {n} pair{'s' if n > 1 else ''} of states "
+                    f"incompatible, not planned: {stage._incompatible_reason}\n"
+                )
+                return True
+        return False
 
     def execute(self, solution: SolutionBase, callback=None, start_tolerance: float | None = 0.01) -> MoveItErrorCode:
         """Play a solution on the current scene: its robot motion and scene changes become the

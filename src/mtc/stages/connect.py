@@ -159,7 +159,8 @@ class Connect(Connecting):
             if name in self._planned_joints:
                 continue
             if abs(qa[i] - qb[i]) > _JOINT_TOLERANCE:
-                log.info("%s: deviation in joint %s: %g != %g", self.name, name, qa[i], qb[i])
+                self._reason = f"deviation in joint {name}: {qa[i]:g} != {qb[i]:g}"
+                log.info("%s: %s", self.name, self._reason)
                 return False
         return True
 
