@@ -324,6 +324,38 @@ def test_ik_frame_of_a_world_object_is_unknown(make_task, start_scene, box):
         assert [f.comment for f in m.failures] == ["ik_frame specified in unknown frame 'crate'"], cls.__name__
 
 
+def test_pose_goal_failure_names_the_ik_frame_and_why(make_task, start_scene, box):
+    """A pose goal inside an obstacle: the comment names the ik_frame the user set (not the
+    link the planner moves with it) and why the first IK solution was rejected."""
+    start_scene.apply_collision_object(box("block", (0.45, 0.0, 0.3)))
+    move = stages.MoveTo("into block", core.PipelinePlanner())
+    move.group = "panda_arm"
+    move.ik_frame = "panda_hand_tcp"
+    goal = msgs.PoseStamped(header=msgs.Header(frame_id="world"))
+    goal.pose.position = msgs.Point(x=0.45, z=0.3)
+    goal.pose.orientation = msgs.Quaternion(x=1.0)
+    move.setGoal(goal)
+    task = make_task(stages.FixedState("start", start_scene), move)
+    assert not task.plan()
+    comment = move.failures[0].comment
+    assert comment.startswith("NO_IK_SOLUTION: no valid goal state for 'panda_hand_tcp' (")
+    assert "; the first is in collision: " in comment and "panda_hand - block" in comment
+    assert "panda_link7" not in comment
+
+
+def test_failure_names_a_link_ik_frame_as_given(make_task, start_scene):
+    """A planner message about the link the ik_frame is fixed to names the ik_frame."""
+    planner = RecordingPlanner(PlannerResult(False, "NO_IK_SOLUTION: nothing for 'panda_link7' here"))
+    move = stages.MoveTo("move", planner)
+    move.group = "panda_arm"
+    move.ik_frame = "panda_hand"
+    move.setGoal(frame_pose_of_named_state(start_scene, "ready", "panda_hand"))
+    task = make_task(stages.FixedState("start", start_scene), move)
+    assert not task.plan()
+    assert planner.calls[0][1] == "panda_link7"  # the planners move the frame's rigid parent
+    assert move.failures[0].comment == "NO_IK_SOLUTION: nothing for 'panda_hand' here"
+
+
 # ------------------------------------------------------------------------------ directions
 def test_backward_reverses_the_trajectory(make_task, start_scene, move):
     """Backward, planning runs from the end state to the goal; the new start state is the goal

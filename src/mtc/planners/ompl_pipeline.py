@@ -1191,15 +1191,9 @@ class OMPLPipeline:
             )
         np.clip(x_goal, lo, hi, out=x_goal)
         if not req.checker.state_ok(x_goal):
-            q = req.checker.full(x_goal)
-            collisions = req.scene.get_collisions(RobotState(model, q), jmg.name)
-            if collisions:
-                pairs = ", ".join(f"{a} - {b}" for a, b in collisions)
-                return f"GOAL_IN_COLLISION: {what} is in collision: {pairs}"
-            return (
-                f"GOAL_VIOLATES_PATH_CONSTRAINTS: {what} violates the path constraints: "
-                + "; ".join(req.evaluator.describe(q))
-            )
+            why = self._why_invalid(req, x_goal)
+            code = "GOAL_IN_COLLISION" if why.startswith("is in collision") else "GOAL_VIOLATES_PATH_CONSTRAINTS"
+            return f"{code}: {what} {why}"
         if not req.within(x_goal):
             q = req.checker.full(x_goal)
             return (
@@ -1207,6 +1201,19 @@ class OMPLPipeline:
                 + "; ".join(req.evaluator.describe(q) if req.evaluator else [])
             )
         return None
+
+    @staticmethod
+    def _why_invalid(req: _Request, x: np.ndarray) -> str:
+        """Why the group configuration ``x`` is no valid state: ``"is in collision: a - b, ..."``,
+        ``"violates the path constraints: ..."`` or ``"touches an obstacle (...)"`` (valid, but
+        closer to one than any motion can be proven free, see :meth:`_EdgeChecker.touching`)."""
+        q = req.checker.full(x)
+        collisions = req.scene.get_collisions(RobotState(req.scene.robot_model, q), req.group.name)
+        if collisions:
+            return "is in collision: " + ", ".join(f"{a} - {b}" for a, b in collisions)
+        if not req.checker.state_ok(x):
+            return "violates the path constraints: " + "; ".join(req.evaluator.describe(q) if req.evaluator else [])
+        return f"touches an obstacle (closer than {CERTIFY_MIN_MARGIN:g} m)"
 
     def _pose_goals(self, req, link, offset, target, pos_tol, rot_tol, seed):
         """Valid IK goal states for a pose goal, or ([], failure message)."""
@@ -1224,6 +1231,7 @@ class OMPLPipeline:
         checker = req.checker
         idx = req.group.variable_indices
         rejected = {"invalid": 0, "bounds": 0}
+        first_invalid = []  # the first IK solution rejected as invalid, to say why
 
         def is_valid(q: np.ndarray) -> bool:
             x = q[idx]
@@ -1232,6 +1240,8 @@ class OMPLPipeline:
                 return False
             if not checker.state_ok(x) or checker.touching(x):
                 rejected["invalid"] += 1
+                if not first_invalid:
+                    first_invalid.append(x.copy())
                 return False
             return True
 
@@ -1266,10 +1276,11 @@ class OMPLPipeline:
         if goals:
             return goals, ""
         if rejected["invalid"] or rejected["bounds"]:
+            first = f"; the first {self._why_invalid(req, first_invalid[0])}" if first_invalid else ""
             return [], (
                 f"NO_IK_SOLUTION: no valid goal state for '{link}' ({rejected['invalid']} IK solutions in "
                 f"collision, touching an obstacle or violating the path constraints, {rejected['bounds']} "
-                "outside the joint constraints)"
+                f"outside the joint constraints{first})"
             )
         return [], f"NO_IK_SOLUTION: no inverse kinematics solution for '{link}' at the target pose"
 

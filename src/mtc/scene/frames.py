@@ -74,11 +74,13 @@ class IKFrame:
         link: The robot link the planners move (the rigid parent of the frame).
         offset: 4x4 pose of the IK frame in ``link``'s frame (constant while the link moves).
         pose: 4x4 pose of the IK frame in the planning frame, in the state it was resolved in.
+        name: the frame the user named (the group's tip where none was named), for messages.
     """
 
     link: str
     offset: np.ndarray
     pose: np.ndarray
+    name: str = ""
 
 
 def resolve_frame(scene, frame: str) -> tuple[str, np.ndarray]:
@@ -138,7 +140,7 @@ def resolve_ik_frame(scene, ik_frame: msgs.PoseStamped | None, group=None) -> IK
     if ik_frame is None:
         if tip is None:
             raise MissingIKFrameError(getattr(group, "name", ""))
-        return IKFrame(tip, np.eye(4), state.get_global_link_transform(tip))
+        return IKFrame(tip, np.eye(4), state.get_global_link_transform(tip), tip)
     if not isinstance(ik_frame, msgs.PoseStamped):
         raise TypeError(f"ik_frame must be a PoseStamped, not {type(ik_frame).__name__}")
     frame = plain_frame(ik_frame.header.frame_id)
@@ -152,9 +154,9 @@ def resolve_ik_frame(scene, ik_frame: msgs.PoseStamped | None, group=None) -> IK
             raise
         tip_pose = state.get_global_link_transform(tip)
         ik_pose = (tip_pose if not frame else frame_pose(scene, frame)) @ pose
-        return IKFrame(tip, np.linalg.solve(tip_pose, ik_pose), ik_pose)
+        return IKFrame(tip, np.linalg.solve(tip_pose, ik_pose), ik_pose, frame or tip)
     offset = frame_offset @ pose
-    return IKFrame(link, offset, state.get_global_link_transform(link) @ offset)
+    return IKFrame(link, offset, state.get_global_link_transform(link) @ offset, frame)
 
 
 def frame_pose(scene, frame: str) -> np.ndarray:

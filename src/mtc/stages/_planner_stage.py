@@ -12,14 +12,26 @@ from mtc.core.cost_terms import PathLength
 from mtc.core.properties import valid_message
 from mtc.core.stage import InitStageError, PropagatingEitherWay
 from mtc.core.storage import InterfaceState, SubTrajectory
+from mtc.planners.planner_interface import PlannerResult
 from mtc.stages._common import ik_frame_from_args
 
-__all__ = ["PlannerStage", "check_planner", "init_planner", "planner_message", "synthesized_trajectory"]
+__all__ = ["PlannerStage", "check_planner", "init_planner", "plan_to_ik_frame", "planner_message", "synthesized_trajectory"]
 
 
 def planner_message(result) -> str:
     """The message of a planner result (``PlannerResult.message``), "" if it has none."""
     return str(getattr(result, "message", "") or "")
+
+
+def plan_to_ik_frame(planner, scene, ik, target, group: str, timeout: float, path_constraints):
+    """``planner.plan_to_pose`` for a resolved IK frame (``mtc.scene.frames.IKFrame``); a
+    failure message names the frame the user set, not the link the planners move with it
+    (``'panda_hand_tcp'``, not ``'panda_link7'``)."""
+    result, trajectory = planner.plan_to_pose(scene, ik.link, ik.offset, target, group, timeout, path_constraints)
+    message = planner_message(result)
+    if not result and ik.name and ik.name != ik.link and f"'{ik.link}'" in message:
+        result = PlannerResult(False, message.replace(f"'{ik.link}'", f"'{ik.name}'"))
+    return result, trajectory
 
 
 def synthesized_trajectory(robot_model, group: str, start, goal):

@@ -27,7 +27,7 @@ from mtc.stages._common import (
     resolve_ik_frame,
     type_name,
 )
-from mtc.stages._planner_stage import PlannerStage, planner_message
+from mtc.stages._planner_stage import PlannerStage, plan_to_ik_frame, planner_message
 
 log = logging.getLogger(__name__)
 
@@ -189,9 +189,7 @@ class MoveRelative(PlannerStage):
                 linear = frame[:3, :3] @ linear
                 target = start_pose.copy()
                 target[:3, 3] += linear
-            result, trajectory = self._planner.plan_to_pose(
-                state.scene, ik.link, ik.offset, target, group, timeout, path_constraints
-            )
+            result, trajectory = plan_to_ik_frame(self._planner, state.scene, ik, target, group, timeout, path_constraints)
             success = bool(result)
             comment = "" if success else planner_message(result)
             if trajectory is not None and len(trajectory) > 0:
