@@ -402,6 +402,43 @@ def test_explain_failure_recurses_into_containers():
     assert out.getvalue() == "Failing stage(s):\nFWD2 (0/1): \n"
 
 
+def _explain(t) -> str:
+    out = io.StringIO()
+    assert t.explainFailure(out)
+    return out.getvalue()
+
+
+def test_explain_failure_says_when_planning_stopped_before_anything_failed():
+    """Beyond MTC (which prints the header alone): a plan stopped by the task's timeout or by
+    preempt() before any stage failed says so."""
+    t = core.Task()
+    t.setRobotModel(toy_model())
+    add(t, GeneratorMockup())
+    add(t, ForwardMockup())
+    t.timeout = 0.0
+    assert t.plan() == core.MoveItErrorCode.TIMED_OUT
+    assert _explain(t) == "Failing stage(s):\nno stage failed before planning was stopped by the task's timeout (0 s)\n"
+    t.reset()
+    t.timeout = 10.0
+    t.preempt()
+    assert t.plan() == core.MoveItErrorCode.PREEMPTED
+    assert _explain(t).endswith("no stage failed before planning was stopped by preempt()\n")
+    t.reset()
+    assert t.plan()  # (and a stage that did fail is named as MTC names it, see above)
+
+
+def test_explain_failure_names_a_generator_whose_monitored_stage_never_solves():
+    """A monitoring generator that waits for a stage that waits for it (nothing fails) is named."""
+    t = core.Task()
+    t.setRobotModel(toy_model())
+    add(t, GeneratorMockup())
+    connect = add(t, ConnectMockup())
+    add(t, MonitoringGeneratorMockup(connect))
+    assert not t.plan()
+    text = _explain(t)
+    assert text.startswith("Failing stage(s):\nMON1 (0/0): its monitored stage 'CON1' has no solutions")
+
+
 def test_task_solution_callbacks_and_task_callbacks(t):
     seen, steps = [], []
     t.addSolutionCallback(seen.append)

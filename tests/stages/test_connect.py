@@ -155,14 +155,14 @@ def test_explain_failure_names_a_connect_whose_pairs_were_incompatible(make_task
     assert not task.plan()
     text = _explanation(task)
     assert "connect (0/0): 1 pair of states incompatible, not planned: " in text
-    assert "deviation in joint panda_finger_joint1: 0 != 0.035" in text
+    assert "deviation in joint panda_finger_joint1: 0.035 at the start, 0 at the end" in text
 
     end = goal_scene(ready_scene)
     end.apply_collision_object(box("crate", (0.6, 0.4, 0.9)))
     c = arm_connect()
     task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
     assert not task.plan()
-    assert "collision objects in one scene only: crate" in _explanation(task)
+    assert "object 'crate' is absent at the start, a world object at the end" in _explanation(task)
 
     starts = core.Alternatives("starts")
     starts.add(stages.FixedState("a", goal_scene(ready_scene, hand="close")), stages.FixedState("b", goal_scene(ready_scene, "transport", "close")))
@@ -186,7 +186,42 @@ def test_attached_objects_must_agree_and_are_named(make_task, ready_scene, box):
     task = make_task(stages.FixedState("start", start), c, stages.FixedState("end", end))
     assert not task.plan()
     assert c.numFailures() == 0
-    assert "in one scene only: crate" in _explanation(task)
+    assert "object 'crate' is attached to panda_hand at the start, a world object at the end" in _explanation(task)
+
+
+def test_incompatibility_names_start_and_end_whichever_state_came_first(make_task, ready_scene):
+    """The reason says which side holds which value, whether the start or the end state
+    reached the Connect first (MTC compares the newer state with the older)."""
+
+    class Late(core.Generator):
+        """Spawns its scene on its second compute, after the end state exists."""
+
+        def __init__(self, scene):
+            super().__init__("late start")
+            self._scene, self._calls = scene, 0
+
+        def canCompute(self):
+            return self._calls < 2
+
+        def compute(self):
+            self._calls += 1
+            if self._calls == 2:
+                self.spawn(core.InterfaceState(self._scene), 0.0)
+
+    seen = []
+
+    class Recording(stages.Connect):
+        def compatible(self, from_state, to_state):
+            seen.append(from_state.scene.current_state.positions[7])
+            return super().compatible(from_state, to_state)
+
+    for start in (stages.FixedState("closed", goal_scene(ready_scene, hand="close")), Late(goal_scene(ready_scene, hand="close"))):
+        seen.clear()
+        task = make_task(start, Recording("connect", [("panda_arm", JointInterpolationPlanner())]),
+                         stages.FixedState("open", goal_scene(ready_scene)))
+        assert not task.plan()
+        assert "panda_finger_joint1: 0 at the start, 0.035 at the end" in _explanation(task)
+        assert seen == [0.035 if isinstance(start, stages.FixedState) else 0.0]  # the newer state first
 
 
 def test_a_stage_that_failed_is_explained_first(make_task, ready_scene):

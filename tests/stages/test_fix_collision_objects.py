@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import io
+
 import numpy as np
 import pytest
 
@@ -84,6 +86,11 @@ def test_too_deep_is_a_failure(make_task, ready_scene, box, caplog):
         assert not task.plan()
     assert fix.failures[0].comment == ""
     assert "obj" in caplog.text and "max_penetration" in caplog.text
+    # beyond MTC, explainFailure says it too (the comment stays MTC's empty one)
+    out = io.StringIO()
+    task.explainFailure(out)
+    assert "fix collisions (0/1): cannot fix collision between " in out.getvalue()
+    assert "obj" in out.getvalue() and "exceeds max_penetration 0.01 m" in out.getvalue()
     # as MTC, the red arrow (longer than max_penetration) is what shows why it failed
     last = fix.failures[0].markers[-1]
     assert last["color"] == "red" and np.linalg.norm(np.subtract(last["end"], last["start"])) > 0.01

@@ -227,6 +227,7 @@ def test_unknown_object_is_logged_and_skipped(make_task, caplog):
     with caplog.at_level("ERROR", logger="mtc.stages.modify_planning_scene"):
         assert task.plan()
     assert "'ghost'" in caplog.text and "panda_hand" in caplog.text
+    assert f"{m.name}: cannot attach object 'ghost'" in caplog.text  # names the stage that skipped it
     assert m.numFailures() == 0 and m.solutions[0].end.scene.attached_object_names == []
 
 
@@ -321,6 +322,7 @@ def test_removing_an_absent_object_is_logged_and_skipped(make_task, ready_scene,
     assert task.plan()
     assert end_scene(m).world_object_names == ["ball"]
     assert "old_box" in caplog.text and "ghost" in caplog.text
+    assert f"{m.name}: cannot apply collision object 'old_box'" in caplog.text
 
 
 def test_a_skipped_edit_is_reported_on_stderr_without_logging_set_up():

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import io
+
 import math
 
 import numpy as np
@@ -218,6 +220,20 @@ def test_min_distance_not_reached(make_task, ready_scene, move, sphere):
     assert not task.plan()
     comment = move.failures[0].comment
     assert "min_distance not reached (" in comment and "< 0.15)" in comment
+
+
+def test_a_failure_without_trajectory_is_silent_but_explained(make_task, ready_scene):
+    """As MTC, a planner failure without waypoints is a silent failure (counted, not stored);
+    beyond MTC, explainFailure gives the planner's reason instead of the bare count."""
+    move = stages.MoveRelative("far", JointInterpolationPlanner())
+    move.group = "panda_arm"
+    move.setDirection(vector("world", (1.5, 0, 0)))
+    task = make_task(start(ready_scene), move)
+    assert not task.plan()
+    assert move.numFailures() == 1 and move.failures == []
+    out = io.StringIO()
+    task.explainFailure(out)
+    assert out.getvalue().endswith("far (0/1): IK failed for pose target.\n")
 
 
 def test_min_distance_zero_accepts_any_progress(make_task, ready_scene, move, sphere):

@@ -66,6 +66,19 @@ def test_rejected_solutions_become_failures(make_task):
     assert f.failures[0].isFailure
 
 
+def test_a_rejection_without_comment_is_explained(make_task):
+    """A plain-bool predicate leaves the child's (empty) comment, as MTC; explainFailure then
+    says the predicate rejected it instead of printing nothing after the count."""
+    f = stages.PredicateFilter("filter", CostGenerator([2.0]))
+    f.predicate = lambda s: s.cost < 1.5
+    task = make_task(f)
+    assert not task.plan()
+    assert f.failures[0].comment == ""
+    out = io.StringIO()
+    task.explainFailure(out)
+    assert out.getvalue().endswith("filter (0/1): rejected by the predicate\n")
+
+
 def test_comment_of_a_rejection(make_task):
     """(False, comment) replaces the comment; explainFailure names the filter and the comment."""
     f = stages.PredicateFilter("filter", CostGenerator([2.0]))

@@ -510,8 +510,9 @@ class ContainerBase(Stage):
                 continue  # this child produced solutions: look no deeper
             if child._num_failures:
                 line = f"{child._name} (0/{child._num_failures})"
-                if child._failures:
-                    line += f": {child._failures[0]._comment}"
+                explanation = child._failureExplanation()
+                if child._failures or explanation:
+                    line += f": {explanation}"
                 out.write(line + "\n")
                 return True
             if child.explainFailure(out):

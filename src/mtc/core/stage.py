@@ -242,6 +242,9 @@ class Stage(TypedPropertyAccess):
         self._solutions = Solutions()
         self._failures: list[SolutionBase] = []
         self._num_failures = 0
+        # why the first failure without a stored comment failed (silent, or MTC's empty comment),
+        # for explainFailure: the reason MTC only logs
+        self._failure_note = ""
         self._starts: Interface | None = None
         self._ends: Interface | None = None
         self._prev_ends: Interface | None = None
@@ -353,6 +356,19 @@ class Stage(TypedPropertyAccess):
         """Count a failure without a solution and without pruning (nothing to report)."""
         self._num_failures += 1
 
+    def _noteFailure(self, reason: str) -> None:
+        """Keep ``reason`` (the first one since the last reset) for :meth:`explainFailure` of
+        a failure that carries no comment of its own (a silent one, or one whose comment MTC
+        leaves empty)."""
+        if reason and not self._failure_note:
+            self._failure_note = str(reason)
+
+    def _failureExplanation(self) -> str:
+        """What explainFailure says after ``name (0/n)``: the first stored failure's comment,
+        or else the noted reason."""
+        comment = self._failures[0]._comment if self._failures else ""
+        return comment or self._failure_note
+
     def storeFailures(self) -> bool:
         """Whether failure solutions are stored (task with introspection)."""
         return self._store_failures
@@ -414,6 +430,7 @@ class Stage(TypedPropertyAccess):
         self._solutions = Solutions()
         self._failures = []
         self._num_failures = 0
+        self._failure_note = ""
         if self._starts is not None:
             self._starts.clear()
         if self._ends is not None:
@@ -1933,7 +1950,6 @@ class Connecting(ComputeBase):
         # answer to "why did this Connect never run" (see Task.explainFailure)
         self._incompatible = 0
         self._incompatible_reason = ""
-        self._reason: str | None = None  # set by compatible() while it turns a pair down
 
     def requiredInterface(self) -> int:
         return CONNECT
@@ -1949,15 +1965,22 @@ class Connecting(ComputeBase):
         self._incompatible_reason = ""
         super()._resetBookkeeping()
 
-    def _compatible_pair(self, state: InterfaceState, other: InterfaceState) -> bool:
-        """:meth:`compatible`, counting the pairs it turns down."""
-        self._reason = None
+    def _compatible_pair(self, state: InterfaceState, other: InterfaceState, state_is_start: bool) -> bool:
+        """:meth:`compatible` (called as MTC calls it, the new state first), counting the pairs
+        it turns down and keeping why the first one was."""
         if self.compatible(state, other):
             return True
         if not self._incompatible:
-            self._incompatible_reason = self._reason or f"{type(self).__name__}.compatible() returned False"
+            start, end = (state, other) if state_is_start else (other, state)
+            self._incompatible_reason = (
+                self._incompatibility(start, end) or f"{type(self).__name__}.compatible() returned False"
+            )
         self._incompatible += 1
         return False
+
+    def _incompatibility(self, start: InterfaceState, end: InterfaceState) -> str:
+        """Why :meth:`compatible` turns the pair down, or "" (worded for a start and an end)."""
+        return scenes_incompatibility(start.scene, end.scene)
 
     def _canCompute(self) -> bool:
         pending = self._pending
@@ -2054,7 +2077,7 @@ class Connecting(ComputeBase):
         to_enable = []
         for o in list(other):
             # as MTC: the new state is always the first argument
-            if not self._compatible_pair(state, o):
+            if not self._compatible_pair(state, o, direction == BACKWARD):
                 continue
             ostatus = o._priority[0]
             if ostatus == 1:  # ARMED: re-enable
@@ -2083,10 +2106,9 @@ class Connecting(ComputeBase):
 
     def compatible(self, from_state: InterfaceState, to_state: InterfaceState) -> bool:
         """Whether two states' scenes agree on world and attached objects (poses within 1e-4)."""
-        reason = scenes_incompatibility(from_state.scene, to_state.scene)
-        if reason:
+        reason = self._incompatibility(from_state, to_state)
+        if reason:  # (worded for a start and an end; MTC passes the newer state first)
             log.debug("%s: %s", self._name, reason)
-            self._reason = reason
         return not reason
 
 
@@ -2094,12 +2116,45 @@ def _close(a, b, tol: float = 1e-4) -> bool:
     return bool(np.all(np.abs(np.asarray(a, dtype=float) - np.asarray(b, dtype=float)) <= tol))
 
 
-def scenes_incompatibility(a, b) -> str:
-    """Why two planning scenes fail MTC's ``Connecting::compatible`` (the first of its
-    reasons), or "" if they pass: the same world objects at the same poses, and the same
-    objects attached to the same links (poses within 1e-4)."""
-    if a is b or a._same_objects(b):
+def _object_places(scene) -> dict[str, str]:
+    """Where each object of a scene is: ``"a world object"`` or ``"attached to <link>"``."""
+    places = {name: "a world object" for name in scene.world_object_names}
+    for name in scene.attached_object_names:
+        places[name] = f"attached to {scene.get_attached_object(name).link}"
+    return places
+
+
+def scenes_incompatibility(start, end) -> str:
+    """Why two planning scenes fail MTC's ``Connecting::compatible``, or "" if they pass: the
+    same world objects at the same poses, and the same objects attached to the same links
+    (poses within 1e-4). Worded for the start and the end scene of a motion."""
+    if start is end or start._same_objects(end):
         return ""
+    places_start, places_end = _object_places(start), _object_places(end)
+    for name in sorted(places_start.keys() | places_end.keys()):
+        at_start, at_end = places_start.get(name, "absent"), places_end.get(name, "absent")
+        if at_start != at_end:
+            return f"object '{name}' is {at_start} at the start, {at_end} at the end"
+    for name in start.world_object_names:
+        oa = start.get_world_object(name)
+        ob = end.get_world_object(name)
+        if not _close(oa.pose, ob.pose):
+            return f"object '{name}' is at another pose at the end"
+        if len(oa.shape_poses) != len(ob.shape_poses) or not all(
+            _close(pa, pb) for pa, pb in zip(oa.shape_poses, ob.shape_poses)
+        ):
+            return f"object '{name}' has other shapes at the end"
+    for name in start.attached_object_names:
+        oa = start.get_attached_object(name)
+        ob = end.get_attached_object(name)
+        sa, sb = oa.object.shape_poses, ob.object.shape_poses
+        # shape poses in the link frame
+        if len(sa) != len(sb) or not all(
+            _close(np.asarray(oa.object.pose) @ np.asarray(pa), np.asarray(ob.object.pose) @ np.asarray(pb))
+            for pa, pb in zip(sa, sb)
+        ):
+            return f"attached object '{name}' sits otherwise on {oa.link} at the end"
+    return ""
     a_names = list(a.world_object_names)
     b_names = set(b.world_object_names)
     if b_names.symmetric_difference(a_names):

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from mtc import msgs
 from mtc.core.container import ContainerBase, SerialContainer, WrapperBase
 from mtc.core.properties import PropertyMap
-from mtc.core.stage import GENERATE, Connecting, PreemptStageError, Stage
+from mtc.core.stage import GENERATE, Connecting, MonitoringGenerator, PreemptStageError, Stage
 from mtc.core.storage import SolutionBase, Solutions
 
 __all__ = ["MoveItErrorCode", "Task"]
@@ -111,6 +111,7 @@ class Task(WrapperBase):
         self._introspection_enabled = msgs.flag(introspection, "introspection")
         self._introspection_obj = None
         self._plan_lock = threading.Lock()
+        self._stopped_by = ""  # what stopped the last plan() early (timeout, preempt), for explainFailure
         self.setPruning(False)
         self.setTimeout(sys.float_info.max)
 
@@ -263,6 +264,7 @@ class Task(WrapperBase):
         """Clear all solutions and states of the tree (configuration is kept)."""
         if self._introspection_obj is not None:
             self._introspection_obj.reset()
+        self._stopped_by = ""
         super().reset()
 
     def clear(self) -> None:
@@ -336,11 +338,14 @@ class Task(WrapperBase):
             flag = self._preempt_flag
             available = self._properties.get("timeout")
             start = time.monotonic()
+            self._stopped_by = ""
             while root._canCompute() and (max_solutions == 0 or len(root._solutions) < max_solutions):
                 # a preempt() before plan() aborts this plan (as MTC, the flag is reset on return)
                 if flag.requested:
+                    self._stopped_by = "preempt()"
                     return self._result(MoveItErrorCode.PREEMPTED)
                 if time.monotonic() - start >= available:
+                    self._stopped_by = f"the task's timeout ({available:g} s)"
                     return self._result(MoveItErrorCode.TIMED_OUT)
                 try:
                     root._runCompute()
@@ -398,12 +403,25 @@ class Task(WrapperBase):
         out.write("Failing stage(s):\n")
         if self._children[0].explainFailure(out):
             return True
-        for stage in self._allStages():
+        stages = self._allStages()
+        for stage in stages:
             if isinstance(stage, Connecting) and stage._incompatible and not stage._solutions:
                 n = stage._incompatible
                 out.write(
                     f"{stage._name} (0/{stage._num_failures}): {n} pair{'s' if n > 1 else ''} of states "
                     f"incompatible, not planned: {stage._incompatible_reason}\n"
+                )
+                return True
+        if self._stopped_by:
+            out.write(f"no stage failed before planning was stopped by {self._stopped_by}\n")
+            return True
+        for stage in stages:
+            monitored = getattr(stage, "_monitored", None)
+            if isinstance(stage, MonitoringGenerator) and monitored is not None and not stage._solutions \
+                    and not monitored._solutions:
+                out.write(
+                    f"{stage._name} (0/{stage._num_failures}): its monitored stage '{monitored._name}' has no "
+                    "solutions (nothing failed: does that stage wait for this one?)\n"
                 )
                 return True
         return False

@@ -267,9 +267,12 @@ def joint_goal(goal, robot_model, group: str) -> dict[str, float]:
         raise TypeError(f"not a joint-space goal: {type_name(goal)}")
     values = _check_joint_values(values, "goal")
     accepted = _group_joint_names(jmg)
+    variables = set(jmg.variable_names)
     for name in values:
         if name not in accepted:
             raise GoalError(f"Joint '{name}' is not part of group '{jmg.name}'")
+        if name not in variables:  # (MTC passes it on, and MoveIt throws "Variable ... is not known")
+            raise GoalError(f"Joint '{name}' of group '{jmg.name}' is fixed: it has no value to set")
     return values
 
 

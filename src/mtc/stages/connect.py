@@ -151,18 +151,22 @@ class Connect(Connecting):
         """MTC's rules on the worlds, and equal values of every joint no planner moves."""
         if not super().compatible(from_state, to_state):
             return False
-        a = from_state.scene.current_state
-        b = to_state.scene.current_state
-        model = a.robot_model
-        qa, qb = a.positions, b.positions
-        for i, name in enumerate(model.variable_names):
-            if name in self._planned_joints:
-                continue
-            if abs(qa[i] - qb[i]) > _JOINT_TOLERANCE:
-                self._reason = f"deviation in joint {name}: {qa[i]:g} != {qb[i]:g}"
-                log.info("%s: %s", self.name, self._reason)
-                return False
-        return True
+        deviation = self._joint_deviation(from_state, to_state)
+        if deviation:
+            log.info("%s: %s", self.name, deviation)  # (as MTC: at info level, objects at debug)
+        return not deviation
+
+    def _incompatibility(self, start: InterfaceState, end: InterfaceState) -> str:
+        return super()._incompatibility(start, end) or self._joint_deviation(start, end)
+
+    def _joint_deviation(self, start: InterfaceState, end: InterfaceState) -> str:
+        """The first joint no planner moves whose values differ, or ""."""
+        a = start.scene.current_state
+        qa, qb = a.positions, end.scene.current_state.positions
+        for i, name in enumerate(a.robot_model.variable_names):
+            if name not in self._planned_joints and abs(qa[i] - qb[i]) > _JOINT_TOLERANCE:
+                return f"deviation in joint {name}: {qa[i]:g} at the start, {qb[i]:g} at the end"
+        return ""
 
     def compute(self, from_state: InterfaceState, to_state: InterfaceState) -> None:
         props = self.properties

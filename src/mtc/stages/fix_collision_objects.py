@@ -99,8 +99,11 @@ class FixCollisionObjects(PropagatingEitherWay):
                 result.markers.append(arrow_marker("collisions", name, contact - correction, contact,
                                                    "red" if fails else "green", scene.planning_frame))
                 if fails:
-                    log.info("%s: cannot fix collision between %s and %s: correction %.4g m exceeds "
-                             "max_penetration %.4g m", self.name, body_a, body_b, depth, max_penetration)
+                    # (MTC's failure has no comment: the reason is noted for explainFailure)
+                    reason = (f"cannot fix collision between {body_a} and {body_b}: correction {depth:.4g} m "
+                              f"exceeds max_penetration {max_penetration:.4g} m")
+                    log.info("%s: %s", self.name, reason)
+                    self._noteFailure(reason)
                     result.markAsFailure()
                     return result
                 if direction is not None:  # an explicit direction replaces the contact normals
@@ -116,7 +119,9 @@ class FixCollisionObjects(PropagatingEitherWay):
                     )
                 )
                 moved[name] = moved.get(name, np.zeros(3)) + correction
-        log.info("%s: collisions remain after %d corrections", self.name, _MAX_ROUNDS)
+        reason = f"collisions remain after {_MAX_ROUNDS} corrections"
+        log.info("%s: %s", self.name, reason)
+        self._noteFailure(reason)
         result.markAsFailure()
         return result
 

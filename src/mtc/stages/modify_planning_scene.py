@@ -159,9 +159,9 @@ class ModifyPlanningScene(PropagatingEitherWay):
         solution = SubTrajectory()
         try:
             for obj in self._collision_objects:
-                self._processCollisionObject(scene, obj, invert)
+                self._processCollisionObject(scene, obj, invert, self.name)
             for names, link, attach in self._attach_objects:
-                apply_attach(scene, names, link, attach != invert)
+                apply_attach(scene, names, link, attach != invert, self.name)
             for first, second, allow in self._collision_matrix_edits:
                 self._allowCollisions(scene, first, second, allow != invert)
             if self._callback is not None:
@@ -179,7 +179,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
         return scene, solution
 
     @staticmethod
-    def _processCollisionObject(scene, obj: msgs.CollisionObject, invert: bool) -> None:
+    def _processCollisionObject(scene, obj: msgs.CollisionObject, invert: bool, stage_name: str) -> None:
         if invert:
             if obj.operation == msgs.CollisionObject.ADD:
                 obj = msgs.CollisionObject(id=obj.id, operation=msgs.CollisionObject.REMOVE)
@@ -192,7 +192,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
         except KeyError as e:
             # as MTC, which ignores MoveIt's result here: removing or moving an object the scene
             # does not have (or adding one in an unknown frame) is logged and skipped
-            log.error("cannot apply collision object '%s' (operation %d): %s", obj.id, obj.operation,
+            log.error("%s: cannot apply collision object '%s' (operation %d): %s", stage_name, obj.id, obj.operation,
                       msgs.error_text(e))
 
     @staticmethod
@@ -212,11 +212,11 @@ class ModifyPlanningScene(PropagatingEitherWay):
         acm.set_entry(first, second, allow)
 
 
-def apply_attach(scene, names: list[str], link: str, attach: bool) -> None:
+def apply_attach(scene, names: list[str], link: str, attach: bool, stage_name: str = "") -> None:
     """Attach the objects ``names`` to ``link`` of ``scene`` (``attach=False``: detach them).
 
     As MTC, which ignores MoveIt's result here: an unknown object or link, or detaching an
-    object that is not attached there, is logged and skipped.
+    object that is not attached there, is logged (naming ``stage_name``) and skipped.
     """
     op = msgs.CollisionObject.ADD if attach else msgs.CollisionObject.REMOVE
     for name in names:
@@ -225,8 +225,8 @@ def apply_attach(scene, names: list[str], link: str, attach: bool) -> None:
                 msgs.AttachedCollisionObject(link_name=link, object=msgs.CollisionObject(id=name, operation=op))
             )
         except KeyError as e:
-            log.error("cannot %s object '%s' %s link '%s': %s", "attach" if attach else "detach", name,
-                      "to" if attach else "from", link, msgs.error_text(e))
+            log.error("%scannot %s object '%s' %s link '%s': %s", f"{stage_name}: " if stage_name else "",
+                      "attach" if attach else "detach", name, "to" if attach else "from", link, msgs.error_text(e))
 
 
 def _copy_msg(msg):

@@ -226,6 +226,7 @@ class MoveRelative(PlannerStage):
             # so nothing is pruned); the planner's reason goes to the log
             if comment:
                 log.info("%s: %s", self.name, comment)
+                self._noteFailure(comment)
             return False, scene, solution
         scene.current_state = trajectory.waypoints[-1]
         if backward:

@@ -129,6 +129,7 @@ class MoveTo(PlannerStage):
             # neither stored nor passed on (no pruning); the planner's reason goes to the log
             if not success:
                 log.info("%s: %s", self.name, planner_message(result) or "planning failed")
+                self._noteFailure(planner_message(result))
             return False, scene, SubTrajectory()
         scene.current_state = trajectory.waypoints[-1]
         if direction == Interface.BACKWARD:

@@ -76,4 +76,5 @@ class PredicateFilter(WrapperBase):
                 accepted = result
             if not accepted:
                 cost = math.inf
+                self._noteFailure("rejected by the predicate")  # shown where no comment says more
         self.liftSolution(solution, cost, comment)

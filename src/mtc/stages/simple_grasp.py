@@ -115,9 +115,9 @@ class SimpleGraspBase(SerialContainer):
         p.exposeTo(self.properties, ["group", "goal"])
         self.insert(move, position)
 
-        attach = ModifyPlanningScene("attach object" if forward else "detach object")
-        attach.setForwardedProperties(GRASP_PROPERTIES)
-        p = attach.properties
+        attach_stage = ModifyPlanningScene("attach object" if forward else "detach object")
+        attach_stage.setForwardedProperties(GRASP_PROPERTIES)
+        p = attach_stage.properties
         p.declare("eef", None, "end-effector", type=str)
         p.declare("object", None, "object", type=str)
         p.configureInitFrom(Stage.PARENT | Stage.INTERFACE, ["eef", "object"])
@@ -126,10 +126,10 @@ class SimpleGraspBase(SerialContainer):
             # as MTC: attach to (detach from) the end effector's parent link; an object that
             # cannot be attached or detached is logged and the scene stays as it is
             link = scene.robot_model.get_end_effector(props.get("eef")).parent_link
-            apply_attach(scene, [props.get("object")], link, attach)
+            apply_attach(scene, [props.get("object")], link, attach, attach_stage.name)
 
-        attach.setCallback(attach_object)
-        self.insert(attach, position)
+        attach_stage.setCallback(attach_object)
+        self.insert(attach_stage, position)
 
     def _eef_group(self, other):
         """Initializer of the gripper MoveTo's ``group``: the group of ``eef`` in ``other``."""
