@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import io
+
 import math
 
 import numpy as np
@@ -424,12 +426,16 @@ def test_failure_without_trajectory_is_shown_as_straight_line(make_task, start_s
 
 
 def test_failure_without_trajectory_and_introspection_is_counted(make_task, start_scene):
-    """Without introspection such a failure is only counted."""
+    """Without introspection such a failure is only counted (explainFailure gives its reason)."""
     m = stages.MoveTo("m", RecordingPlanner(PlannerResult(False, "no way")))
     m.group = "panda_arm"
     m.setGoal("ready")
-    assert not make_task(stages.FixedState("start", start_scene), m, introspection=False).plan()
+    task = make_task(stages.FixedState("start", start_scene), m, introspection=False)
+    assert not task.plan()
     assert m.numFailures() == 1 and m.failures == []
+    out = io.StringIO()
+    task.explainFailure(out)
+    assert out.getvalue() == "Failing stage(s):\nm (0/1): no way\n"
 
 
 # ------------------------------------------------------------------------------ use in tasks
