@@ -181,6 +181,8 @@ def test_state_target(make_task, start_scene, move):
         (msgs.RobotState(joint_state=msgs.JointState(name=["panda_joint1"], position=[0.0])), "Expecting a diff state"),
         ({"panda_finger_joint1": 0.01}, "Joint 'panda_finger_joint1' is not part of group 'panda_arm'"),
         ({"panda_joint8": 0.1}, "Joint 'panda_joint8' of group 'panda_arm' is fixed: it has no value to set"),
+        ("open", r"Unknown joint pose: open \(named states of group 'panda_arm': ready, extended, transport; "
+                 r"'open' is a named state of group 'hand'\)"),
     ],
 )
 def test_bad_joint_goal_raises_out_of_plan(make_task, start_scene, move, goal, message):

@@ -247,8 +247,10 @@ def joint_goal(goal, robot_model, group: str) -> dict[str, float]:
     if isinstance(goal, str):
         names = robot_model.group_state_names(jmg.name)
         if goal not in names:
+            elsewhere = [g for g in robot_model.joint_model_group_names if goal in robot_model.group_state_names(g)]
+            hint = f"; '{goal}' is a named state of group '{elsewhere[0]}'" if elsewhere else ""
             raise GoalError(
-                f"Unknown joint pose: {goal} (named states of group '{jmg.name}': {', '.join(names) or 'none'})"
+                f"Unknown joint pose: {goal} (named states of group '{jmg.name}': {', '.join(names) or 'none'}{hint})"
             )
         return robot_model.get_group_state(jmg.name, goal)
     if isinstance(goal, msgs.RobotState):
