@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import io
+
 from pathlib import Path
 
 import pytest
@@ -56,9 +58,13 @@ def test_cost_term_overrides_any_cost(make_task, ready_scene):
 
 
 def test_without_scene_nothing_is_planned(make_task):
-    """A FixedState without a scene cannot compute: plan() fails."""
+    """A FixedState without a scene cannot compute (as MTC): plan() fails, and explainFailure
+    says why (MTC prints nothing under its header)."""
     task = make_task(stages.FixedState())
     assert not task.plan()
+    out = io.StringIO()
+    assert task.explainFailure(out)
+    assert out.getvalue() == "Failing stage(s):\nfixed state (0/0): no scene to spawn (set one with setState(scene))\n"
 
 
 def test_set_state_rejects_other_types():

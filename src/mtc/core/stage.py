@@ -363,6 +363,11 @@ class Stage(TypedPropertyAccess):
         if reason and not self._failure_note:
             self._failure_note = str(reason)
 
+    def _idleReason(self) -> str:
+        """Why this stage, without solutions, never produced one although nothing of it failed
+        (a hint for :meth:`Task.explainFailure` when no stage failed), or ""."""
+        return ""
+
     def _failureExplanation(self) -> str:
         """What explainFailure says after ``name (0/n)``: the first stored failure's comment,
         or else the noted reason."""
@@ -818,6 +823,12 @@ class MonitoringGenerator(Generator):
     def monitoredStage(self) -> Stage | None:
         """The monitored stage."""
         return self._monitored
+
+    def _idleReason(self) -> str:
+        monitored = self._monitored
+        if monitored is None or monitored._solutions:
+            return ""
+        return f"its monitored stage '{monitored._name}' has no solutions (nothing failed: does that stage wait for this one?)"
 
     def _initFinish(self, robot_model) -> None:
         if self._monitored is None:
@@ -1977,6 +1988,12 @@ class Connecting(ComputeBase):
             )
         self._incompatible += 1
         return False
+
+    def _idleReason(self) -> str:
+        n = self._incompatible
+        if not n:
+            return ""
+        return f"{n} pair{'s' if n > 1 else ''} of states incompatible, not planned: {self._incompatible_reason}"
 
     def _incompatibility(self, start: InterfaceState, end: InterfaceState) -> str:
         """Why :meth:`compatible` turns the pair down, or "" (worded for a start and an end)."""

@@ -19,7 +19,7 @@ from collections.abc import Callable
 from mtc import msgs
 from mtc.core.container import ContainerBase, SerialContainer, WrapperBase
 from mtc.core.properties import PropertyMap
-from mtc.core.stage import GENERATE, Connecting, MonitoringGenerator, PreemptStageError, Stage
+from mtc.core.stage import GENERATE, Connecting, PreemptStageError, Stage
 from mtc.core.storage import SolutionBase, Solutions
 
 __all__ = ["MoveItErrorCode", "Task"]
@@ -395,36 +395,30 @@ class Task(WrapperBase):
     def explainFailure(self, file=None) -> bool:
         """Print ``Failing stage(s):`` and the first failing stage with its first failure comment.
 
-        Beyond MTC: where no stage failed, a connecting stage without solutions that turned
-        pairs of states down as incompatible (its only trace in MTC is a log line) is named
-        with the number of pairs and the first reason, e.g. ``connect (0/0): 1 pair of states
-        incompatible, not planned: deviation in joint panda_finger_joint1: 0 != 0.035``."""
+        Beyond MTC (which then prints the header alone), where no stage failed: a connecting
+        stage that turned its pairs of states down as incompatible (in MTC only a log line says
+        so), e.g. ``connect (0/0): 1 pair of states incompatible, not planned: deviation in joint
+        panda_finger_joint1: 0.035 at the start, 0 at the end``; else what stopped the plan (the
+        task's timeout, ``preempt()``); else the first stage without solutions that says why it
+        never ran (a ``FixedState`` without a scene, a monitoring generator whose monitored stage
+        has no solutions)."""
         out = sys.stdout if file is None else file
         out.write("Failing stage(s):\n")
         if self._children[0].explainFailure(out):
             return True
-        stages = self._allStages()
-        for stage in stages:
-            if isinstance(stage, Connecting) and stage._incompatible and not stage._solutions:
-                n = stage._incompatible
-                out.write(
-                    f"{stage._name} (0/{stage._num_failures}): {n} pair{'s' if n > 1 else ''} of states "
-                    f"incompatible, not planned: {stage._incompatible_reason}\n"
-                )
-                return True
-        if self._stopped_by:
+        # nothing failed: a connector that turned its pairs down, what stopped the plan, or
+        # another stage that says why it never ran
+        idle = [(stage, stage._idleReason()) for stage in self._allStages() if not stage._solutions]
+        idle = [(stage, reason) for stage, reason in idle if reason]
+        connecting = [entry for entry in idle if isinstance(entry[0], Connecting)]
+        if not connecting and self._stopped_by:  # (a timeout also leaves other stages idle)
             out.write(f"no stage failed before planning was stopped by {self._stopped_by}\n")
             return True
-        for stage in stages:
-            monitored = getattr(stage, "_monitored", None)
-            if isinstance(stage, MonitoringGenerator) and monitored is not None and not stage._solutions \
-                    and not monitored._solutions:
-                out.write(
-                    f"{stage._name} (0/{stage._num_failures}): its monitored stage '{monitored._name}' has no "
-                    "solutions (nothing failed: does that stage wait for this one?)\n"
-                )
-                return True
-        return False
+        if not idle:
+            return False
+        stage, reason = (connecting or idle)[0]
+        out.write(f"{stage._name} (0/{stage._num_failures}): {reason}\n")
+        return True
 
     def execute(self, solution: SolutionBase, callback=None, start_tolerance: float | None = 0.01) -> MoveItErrorCode:
         """Play a solution on the current scene: its robot motion and scene changes become the

@@ -62,6 +62,9 @@ class FixedState(Generator):
     def canCompute(self) -> bool:
         return self._scene is not None and not self._done
 
+    def _idleReason(self) -> str:
+        return "" if self._scene is not None else "no scene to spawn (set one with setState(scene))"
+
     def compute(self) -> None:
         self._done = True
         if not self.properties.get("ignore_collisions"):
