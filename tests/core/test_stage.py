@@ -402,6 +402,12 @@ def test_explain_failure_recurses_into_containers():
     assert out.getvalue() == "Failing stage(s):\nFWD2 (0/1): \n"
 
 
+def _explain_text(t) -> str:
+    out = io.StringIO()
+    t.explainFailure(out)
+    return out.getvalue()
+
+
 def _explain(t) -> str:
     out = io.StringIO()
     assert t.explainFailure(out)
@@ -425,6 +431,14 @@ def test_explain_failure_says_when_planning_stopped_before_anything_failed():
     assert _explain(t).endswith("no stage failed before planning was stopped by preempt()\n")
     t.reset()
     assert t.plan()  # (and a stage that did fail is named as MTC names it, see above)
+    t.timeout = 0.0
+    t.reset()
+    assert not t.plan()
+    bad = add(t, core.SerialContainer("empty"))  # the next plan() fails in init()
+    with pytest.raises(core.InitStageError):
+        t.plan()
+    assert "stopped" not in _explain_text(t)  # not the last plan's timeout
+    t.stages.remove(bad)
 
 
 def test_explain_failure_names_a_generator_whose_monitored_stage_never_solves():

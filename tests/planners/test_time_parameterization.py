@@ -190,6 +190,20 @@ def test_waypoints_on_one_line_are_timed_exactly(panda, scale):
     assert np.allclose(traj.accelerations[0], accel * u) and np.allclose(traj.accelerations[-1], -accel * u)
 
 
+def test_a_sideways_step_between_close_waypoints_is_not_a_line(panda):
+    """Waypoints on a line but for a step across it between two waypoints very close to each
+    other (IK noise) are timed as the corner they make: the motion between them keeps the
+    velocity limits (taken as the line, the step was crossed in picoseconds)."""
+    start = _ready(panda).get_joint_group_positions("panda_arm")
+    direction = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
+    P = start + np.array([0.0, 0.5, 0.5 + 1e-11, 1.0])[:, None] * direction
+    P[2, 2] += 5e-10  # joint 3 steps aside between the two middle waypoints
+    traj = time_parameterize(RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), P))
+    vmax, _ = _limits(panda, 1.0, 1.0)
+    fd_v = np.abs(np.diff(traj.positions, axis=0)) / np.diff(traj.times)[:, None]
+    assert np.all(fd_v <= vmax * (1 + 1e-6))
+
+
 def test_a_line_driven_there_and_back_stops_at_the_turn(panda):
     """Waypoints out along a line and back along it are not one straight motion: the arm comes
     to rest at the turning waypoint, and the motion takes about twice the one-way trapezoid."""

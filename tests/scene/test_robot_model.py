@@ -269,6 +269,22 @@ def test_joint_limits_override(toy):
         RobotModel(str(TOY_URDF), str(TOY_SRDF), joint_limits={"nope": {"max_velocity": 1.0}})
 
 
+@pytest.mark.parametrize("value", [0, -1.0, float("nan"), float("inf"), "fast"])
+def test_joint_limits_must_be_positive(toy, value):
+    """A limit of 0 (or no number) would stop the joint, and timing divides by it: refused,
+    naming the joint, unless its has_..._limits flag is false (MoveIt's Setup Assistant writes
+    max_acceleration: 0 beside has_acceleration_limits: false): then the default stays."""
+    from scene_helpers import TOY_SRDF, TOY_URDF
+
+    with pytest.raises(ValueError, match="max_acceleration of joint 'link1-link2-joint' must be a positive number"):
+        RobotModel(str(TOY_URDF), str(TOY_SRDF), joint_limits={"link1-link2-joint": {"max_acceleration": value}})
+    model = RobotModel(str(TOY_URDF), str(TOY_SRDF), joint_limits={
+        "link1-link2-joint": {"has_velocity_limits": True, "max_velocity": 2.0,
+                              "has_acceleration_limits": False, "max_acceleration": value}})
+    assert model.velocity_limits.tolist() == [1.0, 2.0, 1.0]
+    assert model.acceleration_limits.tolist() == [1.0, 1.0, 1.0]
+
+
 def test_every_srdf_element_resolves(toy):
     """Groups from joints, links, chains and subgroups; passive joints are not active; default-collision entries."""
     from scene_helpers import TOY_URDF

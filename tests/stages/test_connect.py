@@ -115,11 +115,14 @@ def test_all_pairs_are_connected(make_task, ready_scene):
     assert len(c.solutions) == 4
 
 
-def test_unplanned_joints_must_agree(make_task, ready_scene):
-    """States whose hand joints differ are not paired when only the arm is planned."""
+def test_unplanned_joints_must_agree(make_task, ready_scene, caplog):
+    """States whose hand joints differ are not paired when only the arm is planned (as MTC,
+    an INFO log line names the joint, the newer state's value first)."""
     c = arm_connect()
     task = make_task(stages.CurrentState(), c, stages.FixedState("end", goal_scene(ready_scene, hand="close")))
-    assert not task.plan()
+    with caplog.at_level("INFO", logger="mtc.stages.connect"):
+        assert not task.plan()
+    assert "connect: deviation in joint panda_finger_joint1: 0 != 0.035" in caplog.text
     assert c.numFailures() == 0 and len(c.solutions) == 0
     assert not c.compatible(
         core.InterfaceState(ready_scene), core.InterfaceState(goal_scene(ready_scene, hand="close"))
@@ -173,6 +176,32 @@ def test_explain_failure_names_a_connect_whose_pairs_were_incompatible(make_task
     task.reset()
     assert c._incompatible == 0  # counted per plan
     assert "incompatible" not in _explanation(task)
+
+
+def test_only_where_mtc_looks_and_not_over_a_stop(make_task, ready_scene):
+    """The incompatible pairs are named only where MTC's search looks (not below a container
+    with solutions, not for a successful task) and not when a preempt stopped the plan."""
+    alts = core.Alternatives("alts")
+    branch = core.SerialContainer("branch")
+    branch.add(stages.FixedState("b-start", goal_scene(ready_scene, "ready")), arm_connect(name="irrelevant"),
+               stages.FixedState("b-end", goal_scene(ready_scene, hand="close")))
+    alts.add(branch, stages.FixedState("direct", goal_scene(ready_scene, "ready")))
+    move = stages.MoveTo("move", JointInterpolationPlanner())
+    move.group = "panda_arm"
+    move.setGoal("extended")
+    task = make_task(alts, move)
+    assert task.plan()
+    assert _explanation(task) == "Failing stage(s):\n"
+
+    starts = core.Alternatives("starts")
+    starts.add(stages.FixedState("open", goal_scene(ready_scene, "ready")),
+               stages.FixedState("closed", goal_scene(ready_scene, "ready", "close")))
+    c = arm_connect()
+    task = make_task(starts, c, stages.FixedState("end", goal_scene(ready_scene)))
+    task.addTaskCallback(lambda t: t.preempt())
+    assert task.plan() == core.MoveItErrorCode.PREEMPTED
+    assert c._incompatible == 1 and len(list(c.pending)) == 1  # a compatible pair still waits
+    assert _explanation(task).endswith("no stage failed before planning was stopped by preempt()\n")
 
 
 def test_attached_objects_must_agree_and_are_named(make_task, ready_scene, box):

@@ -192,6 +192,16 @@ def test_bad_joint_goal_raises_out_of_plan(make_task, start_scene, move, goal, m
         make_task(stages.FixedState("start", start_scene), move).plan()
 
 
+def test_joint_goal_may_name_a_mimic_joint(make_task, start_scene):
+    """A goal copied from a gripper's joint_states names both finger joints, the second one a
+    mimic joint: it plans (as in MoveIt), unlike a fixed joint."""
+    m = stages.MoveTo("fingers", JointInterpolationPlanner())
+    m.group = "hand"
+    m.setGoal({"panda_finger_joint1": 0.01, "panda_finger_joint2": 0.01})
+    one_solution(make_task(stages.FixedState("start", start_scene), m))
+    assert m.solutions[0].end.scene.current_state.joint_positions["panda_finger_joint2"] == pytest.approx(0.01)
+
+
 def test_goal_out_of_bounds_is_a_failure(make_task, start_scene, move):
     """The planner's reason becomes the failure comment (alternatives.py's goal 2)."""
     move.setGoal({"panda_joint1": -3.0, "panda_joint2": -1.0, "panda_joint4": -2.0})
@@ -359,6 +369,16 @@ def test_failure_names_a_link_ik_frame_as_given(make_task, start_scene):
     assert not task.plan()
     assert planner.calls[0][1] == "panda_link7"  # the planners move the frame's rigid parent
     assert move.failures[0].comment == "NO_IK_SOLUTION: nothing for 'panda_hand' here"
+
+    # an ik_frame given as a pose in the planning frame is carried by the tip: messages name the tip
+    planner = RecordingPlanner(PlannerResult(False, "NO_IK_SOLUTION: nothing for 'panda_link8' here"))
+    move = stages.MoveTo("move", planner)
+    move.group = "panda_arm"
+    move.ik_frame = frame_pose_of_named_state(start_scene, "extended", "panda_link8")  # frame 'world'
+    move.setGoal(frame_pose_of_named_state(start_scene, "ready", "panda_link8"))
+    task = make_task(stages.FixedState("start", start_scene), move)
+    assert not task.plan()
+    assert move.failures[0].comment == "NO_IK_SOLUTION: nothing for 'panda_link8' here"
 
 
 # ------------------------------------------------------------------------------ directions

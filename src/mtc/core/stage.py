@@ -2123,8 +2123,8 @@ class Connecting(ComputeBase):
 
     def compatible(self, from_state: InterfaceState, to_state: InterfaceState) -> bool:
         """Whether two states' scenes agree on world and attached objects (poses within 1e-4)."""
-        reason = self._incompatibility(from_state, to_state)
-        if reason:  # (worded for a start and an end; MTC passes the newer state first)
+        reason = scenes_incompatibility(from_state.scene, to_state.scene, EITHER_SIDE)
+        if reason:
             log.debug("%s: %s", self._name, reason)
         return not reason
 
@@ -2141,65 +2141,40 @@ def _object_places(scene) -> dict[str, str]:
     return places
 
 
-def scenes_incompatibility(start, end) -> str:
+#: How :func:`scenes_incompatibility` names the two scenes: of a motion's start and end, or of
+#: two states in no order (MTC's ``compatible`` gets the newer state first).
+MOTION_SIDES = ("at the start", "at the end")
+EITHER_SIDE = ("in one state", "in the other")
+
+
+def scenes_incompatibility(a, b, sides: tuple[str, str] = MOTION_SIDES) -> str:
     """Why two planning scenes fail MTC's ``Connecting::compatible``, or "" if they pass: the
     same world objects at the same poses, and the same objects attached to the same links
-    (poses within 1e-4). Worded for the start and the end scene of a motion."""
-    if start is end or start._same_objects(end):
+    (poses within 1e-4). ``sides`` names the two scenes (``a`` first) in the reason."""
+    if a is b or a._same_objects(b):
         return ""
-    places_start, places_end = _object_places(start), _object_places(end)
-    for name in sorted(places_start.keys() | places_end.keys()):
-        at_start, at_end = places_start.get(name, "absent"), places_end.get(name, "absent")
-        if at_start != at_end:
-            return f"object '{name}' is {at_start} at the start, {at_end} at the end"
-    for name in start.world_object_names:
-        oa = start.get_world_object(name)
-        ob = end.get_world_object(name)
+    places_a, places_b = _object_places(a), _object_places(b)
+    for name in sorted(places_a.keys() | places_b.keys()):
+        in_a, in_b = places_a.get(name, "absent"), places_b.get(name, "absent")
+        if in_a != in_b:
+            return f"object '{name}' is {in_a} {sides[0]}, {in_b} {sides[1]}"
+    for name in a.world_object_names:
+        oa = a.get_world_object(name)
+        ob = b.get_world_object(name)
         if not _close(oa.pose, ob.pose):
-            return f"object '{name}' is at another pose at the end"
+            return f"object '{name}' has different poses"
         if len(oa.shape_poses) != len(ob.shape_poses) or not all(
             _close(pa, pb) for pa, pb in zip(oa.shape_poses, ob.shape_poses)
         ):
-            return f"object '{name}' has other shapes at the end"
-    for name in start.attached_object_names:
-        oa = start.get_attached_object(name)
-        ob = end.get_attached_object(name)
+            return f"object '{name}' has different shapes"
+    for name in a.attached_object_names:
+        oa = a.get_attached_object(name)
+        ob = b.get_attached_object(name)
         sa, sb = oa.object.shape_poses, ob.object.shape_poses
         # shape poses in the link frame
         if len(sa) != len(sb) or not all(
             _close(np.asarray(oa.object.pose) @ np.asarray(pa), np.asarray(ob.object.pose) @ np.asarray(pb))
             for pa, pb in zip(sa, sb)
         ):
-            return f"attached object '{name}' sits otherwise on {oa.link} at the end"
-    return ""
-    a_names = list(a.world_object_names)
-    b_names = set(b.world_object_names)
-    if b_names.symmetric_difference(a_names):
-        return f"collision objects in one scene only: {', '.join(sorted(b_names.symmetric_difference(a_names)))}"
-    for obj_name in a_names:
-        oa = a.get_world_object(obj_name)
-        ob = b.get_world_object(obj_name)
-        if not _close(oa.pose, ob.pose):
-            return f"different object pose: {obj_name}"
-        if len(oa.shape_poses) != len(ob.shape_poses):
-            return f"different object shapes: {obj_name}"
-        for pa, pb in zip(oa.shape_poses, ob.shape_poses):
-            if not _close(pa, pb):
-                return f"different shape pose: {obj_name}"
-    a_att = list(a.attached_object_names)
-    b_att = set(b.attached_object_names)
-    if b_att.symmetric_difference(a_att):
-        return f"objects attached in one scene only: {', '.join(sorted(b_att.symmetric_difference(a_att)))}"
-    for obj_name in a_att:
-        oa = a.get_attached_object(obj_name)
-        ob = b.get_attached_object(obj_name)
-        if oa.link != ob.link:
-            return f"different attach links: {obj_name} attached to {oa.link} vs. {ob.link}"
-        sa, sb = oa.object.shape_poses, ob.object.shape_poses
-        if len(sa) != len(sb):
-            return f"different object shapes: {obj_name}"
-        # shape poses in the link frame
-        for pa, pb in zip(sa, sb):
-            if not _close(np.asarray(oa.object.pose) @ np.asarray(pa), np.asarray(ob.object.pose) @ np.asarray(pb)):
-                return f"different pose of attached object shape: {obj_name}"
+            return f"attached object '{name}' has different shape poses on {oa.link}"
     return ""

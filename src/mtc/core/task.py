@@ -332,13 +332,13 @@ class Task(WrapperBase):
         """
         if isinstance(max_solutions, bool) or not isinstance(max_solutions, numbers.Integral) or max_solutions < 0:
             raise TypeError(f"plan(): max_solutions must be a whole number >= 0 (0: no limit), got {max_solutions!r}")
+        self._stopped_by = ""
         try:
             self.init()
             root = self._children[0]
             flag = self._preempt_flag
             available = self._properties.get("timeout")
             start = time.monotonic()
-            self._stopped_by = ""
             while root._canCompute() and (max_solutions == 0 or len(root._solutions) < max_solutions):
                 # a preempt() before plan() aborts this plan (as MTC, the flag is reset on return)
                 if flag.requested:
@@ -404,19 +404,21 @@ class Task(WrapperBase):
         has no solutions)."""
         out = sys.stdout if file is None else file
         out.write("Failing stage(s):\n")
-        if self._children[0].explainFailure(out):
+        root = self._children[0]
+        if root.explainFailure(out):
             return True
-        # nothing failed: a connector that turned its pairs down, what stopped the plan, or
-        # another stage that says why it never ran
-        idle = [(stage, stage._idleReason()) for stage in self._allStages() if not stage._solutions]
-        idle = [(stage, reason) for stage, reason in idle if reason]
-        connecting = [entry for entry in idle if isinstance(entry[0], Connecting)]
-        if not connecting and self._stopped_by:  # (a timeout also leaves other stages idle)
+        if root._solutions:
+            return False
+        # nothing failed: what stopped the plan, else a connector that turned its pairs down,
+        # else another stage that says why it never ran (looked for where MTC's search looks:
+        # not below a stage that has solutions)
+        if self._stopped_by:
             out.write(f"no stage failed before planning was stopped by {self._stopped_by}\n")
             return True
+        idle = [(stage, reason) for stage in _without_solutions(root) if (reason := stage._idleReason())]
         if not idle:
             return False
-        stage, reason = (connecting or idle)[0]
+        stage, reason = next((entry for entry in idle if isinstance(entry[0], Connecting)), idle[0])
         out.write(f"{stage._name} (0/{stage._num_failures}): {reason}\n")
         return True
 
@@ -449,3 +451,14 @@ class Task(WrapperBase):
 
     def __repr__(self) -> str:
         return f"<Task '{self.name}' ({len(self)} stages)>"
+
+
+def _without_solutions(container):
+    """The stages below ``container`` without solutions, depth first, not looking below a stage
+    that has solutions (as MTC's explainFailure searches)."""
+    for child in container._children:
+        if child._solutions:
+            continue
+        yield child
+        if isinstance(child, ContainerBase):
+            yield from _without_solutions(child)

@@ -58,7 +58,7 @@ __all__ = [
 _EPS_TANGENT = 1e-9  # a joint whose path tangent is smaller than this does not limit ṡ
 _REPEATED = 1e-12  # a waypoint closer than this to the one before it repeats it [rad, m]
 _MIN_PARTS = 2  # grid intervals per waypoint interval, at least
-_STRAIGHT = 1e-9  # waypoints this close to one line [rad, m] are timed on it (see _straight_line)
+_STRAIGHT = 1e-9  # off a line by this fraction of the step to the next waypoint: on it (see _straight_line)
 
 
 def check_scaling_factor(name: str, value: float) -> float:
@@ -179,12 +179,21 @@ def _straight_line(Q, vmax, amax):
         return None
     u = d / length
     s = (Q - Q[0]) @ u
-    if np.abs(Q - Q[0] - s[:, None] * u).max() > _STRAIGHT or not np.all(np.diff(s) > 0.0):
+    steps = np.diff(s)
+    if not np.all(steps > 0.0):
+        return None
+    # every waypoint on the line to within a tiny fraction of its distance to its neighbours:
+    # a sideways step, however small, between two close waypoints is a corner the passes time
+    off = np.abs(Q - Q[0] - s[:, None] * u).max(axis=1)
+    near = np.minimum(np.append(steps, np.inf), np.insert(steps, 0, np.inf))
+    if np.any(off > _STRAIGHT * near):
         return None
     au = np.abs(u)
     moving = au > _EPS_TANGENT
     sv = float(np.min(vmax[moving] / au[moving]))
     sa = float(np.min(amax[moving] / au[moving]))
+    if not (sv > 0.0 and sa > 0.0):  # a moving joint without a limit to move by: the passes decide
+        return None
     s[-1] = length  # exactly: the time to rest grows with the square root of what is left
     ramp = min(0.5 * sv * sv / sa, 0.5 * length)  # path length of the speed-up (and slow-down)
     peak = math.sqrt(2.0 * sa * ramp)

@@ -154,7 +154,7 @@ def resolve_ik_frame(scene, ik_frame: msgs.PoseStamped | None, group=None) -> IK
             raise
         tip_pose = state.get_global_link_transform(tip)
         ik_pose = (tip_pose if not frame else frame_pose(scene, frame)) @ pose
-        return IKFrame(tip, np.linalg.solve(tip_pose, ik_pose), ik_pose, frame or tip)
+        return IKFrame(tip, np.linalg.solve(tip_pose, ik_pose), ik_pose, tip)  # (carried by the tip)
     offset = frame_offset @ pose
     return IKFrame(link, offset, state.get_global_link_transform(link) @ offset, frame)
 

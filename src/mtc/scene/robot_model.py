@@ -9,6 +9,7 @@ that follow their master; groups expose only their *active* (non-mimic, non-pass
 from __future__ import annotations
 
 import logging
+import math
 import os
 import site
 import sys
@@ -19,6 +20,7 @@ from functools import cached_property
 import numpy as np
 import pinocchio as pin
 
+from mtc import msgs
 from mtc.scene.srdf import SRDF, DescriptionError, GroupSpec, parse_srdf, parse_xml, read_xml_source
 
 log = logging.getLogger(__name__)
@@ -203,7 +205,8 @@ class RobotModel:
         package_dirs: folders searched for ``package://`` mesh URIs, in addition to the
             ``example-robot-data`` install.
         joint_limits: optional per-joint overrides ``{joint: {"max_velocity": v,
-            "max_acceleration": a}}`` (as MoveIt's ``joint_limits.yaml``).
+            "max_acceleration": a}}`` (as MoveIt's ``joint_limits.yaml``: a limit whose
+            ``has_velocity_limits`` / ``has_acceleration_limits`` is false is left out).
         convex_collision_meshes: check robot link meshes as their convex hulls (about 4x
             faster, slightly conservative); world objects keep their exact meshes.
 
@@ -443,10 +446,19 @@ class RobotModel:
         self.acceleration_limits = np.full(len(self.variable_names), DEFAULT_ACCELERATION_LIMIT)
         for joint, limits in joint_limits.items():
             i = self.variable_index(joint)
-            if "max_velocity" in limits:
-                self.velocity_limits[i] = float(limits["max_velocity"])
-            if "max_acceleration" in limits:
-                self.acceleration_limits[i] = float(limits["max_acceleration"])
+            for key, flag, values in (("max_velocity", "has_velocity_limits", self.velocity_limits),
+                                      ("max_acceleration", "has_acceleration_limits", self.acceleration_limits)):
+                # as MoveIt's joint_limits.yaml: a limit counts where its has_..._limits flag is
+                # not false (the Setup Assistant writes max_acceleration: 0 beside a false flag)
+                if key not in limits or limits.get(flag, True) is False:
+                    continue
+                value = limits[key]
+                if not (msgs.is_number(value) and 0 < float(value) < math.inf):
+                    raise DescriptionError(
+                        f"joint_limits: {key} of joint '{joint}' must be a positive number, got {value!r} "
+                        f"(or set {flag}: false to keep the default)"
+                    )
+                values[i] = float(value)
         mimic_names = {self.variable_names[f] for f, *_ in self.mimic_followers}
         self._active_names = [
             n for n in self.variable_names if n not in mimic_names and n not in self.passive_joint_names

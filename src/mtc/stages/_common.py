@@ -269,7 +269,7 @@ def joint_goal(goal, robot_model, group: str) -> dict[str, float]:
         raise TypeError(f"not a joint-space goal: {type_name(goal)}")
     values = _check_joint_values(values, "goal")
     accepted = _group_joint_names(jmg)
-    variables = set(jmg.variable_names)
+    variables = set(robot_model.variable_names)  # (a mimic joint has one: it is set, then followed)
     for name in values:
         if name not in accepted:
             raise GoalError(f"Joint '{name}' is not part of group '{jmg.name}'")

@@ -153,20 +153,27 @@ class Connect(Connecting):
             return False
         deviation = self._joint_deviation(from_state, to_state)
         if deviation:
-            log.info("%s: %s", self.name, deviation)  # (as MTC: at info level, objects at debug)
-        return not deviation
+            name, qa, qb = deviation
+            log.info("%s: deviation in joint %s: %g != %g", self.name, name, qa, qb)  # (as MTC, at info level)
+        return deviation is None
 
     def _incompatibility(self, start: InterfaceState, end: InterfaceState) -> str:
-        return super()._incompatibility(start, end) or self._joint_deviation(start, end)
+        reason = super()._incompatibility(start, end)
+        deviation = None if reason else self._joint_deviation(start, end)
+        if deviation:
+            name, qa, qb = deviation
+            reason = f"deviation in joint {name}: {qa:g} at the start, {qb:g} at the end"
+        return reason
 
-    def _joint_deviation(self, start: InterfaceState, end: InterfaceState) -> str:
-        """The first joint no planner moves whose values differ, or ""."""
-        a = start.scene.current_state
-        qa, qb = a.positions, end.scene.current_state.positions
-        for i, name in enumerate(a.robot_model.variable_names):
+    def _joint_deviation(self, a: InterfaceState, b: InterfaceState) -> tuple[str, float, float] | None:
+        """The first joint no planner moves whose values differ (its name, the values in
+        ``a`` and ``b``), or None."""
+        state = a.scene.current_state
+        qa, qb = state.positions, b.scene.current_state.positions
+        for i, name in enumerate(state.robot_model.variable_names):
             if name not in self._planned_joints and abs(qa[i] - qb[i]) > _JOINT_TOLERANCE:
-                return f"deviation in joint {name}: {qa[i]:g} at the start, {qb[i]:g} at the end"
-        return ""
+                return name, float(qa[i]), float(qb[i])
+        return None
 
     def compute(self, from_state: InterfaceState, to_state: InterfaceState) -> None:
         props = self.properties
