@@ -168,7 +168,8 @@ def test_explain_failure_names_a_connect_whose_pairs_were_incompatible(make_task
     assert "object 'crate' is absent at the start, a world object at the end" in _explanation(task)
 
     starts = core.Alternatives("starts")
-    starts.add(stages.FixedState("a", goal_scene(ready_scene, hand="close")), stages.FixedState("b", goal_scene(ready_scene, "transport", "close")))
+    starts.add(stages.FixedState("a", goal_scene(ready_scene, hand="close")),
+               stages.FixedState("b", goal_scene(ready_scene, "transport", "close")))
     c = arm_connect()
     task = make_task(starts, c, stages.FixedState("end", goal_scene(ready_scene)))
     assert not task.plan()
@@ -244,7 +245,8 @@ def test_incompatibility_names_start_and_end_whichever_state_came_first(make_tas
             seen.append(from_state.scene.current_state.positions[7])
             return super().compatible(from_state, to_state)
 
-    for start in (stages.FixedState("closed", goal_scene(ready_scene, hand="close")), Late(goal_scene(ready_scene, hand="close"))):
+    closed = goal_scene(ready_scene, hand="close")
+    for start in (stages.FixedState("closed", closed), Late(closed)):
         seen.clear()
         task = make_task(start, Recording("connect", [("panda_arm", JointInterpolationPlanner())]),
                          stages.FixedState("open", goal_scene(ready_scene)))
@@ -256,7 +258,8 @@ def test_incompatibility_names_start_and_end_whichever_state_came_first(make_tas
 def test_a_stage_that_failed_is_explained_first(make_task, ready_scene):
     """MTC's explanation comes first: a stage with failures is named even where a Connect also
     turned pairs down."""
-    task = make_task(stages.CurrentState(), arm_connect(), stages.FixedState("end", goal_scene(ready_scene, hand="close")))
+    end = stages.FixedState("end", goal_scene(ready_scene, hand="close"))
+    task = make_task(stages.CurrentState(), arm_connect(), end)
     task.add(stages.Connect("second", [("panda_arm", RecordingPlanner())]))
     task.add(stages.FixedState("far", goal_scene(ready_scene, hand="close")))
     assert not task.plan()
@@ -276,7 +279,8 @@ def test_a_custom_compatible_is_counted_too(make_task, ready_scene):
 
     task = make_task(stages.CurrentState(), Picky("picky"), stages.FixedState("end", goal_scene(ready_scene)))
     assert not task.plan()
-    assert "picky (0/0): 1 pair of states incompatible, not planned: Picky.compatible() returned False" in _explanation(task)
+    expected = "picky (0/0): 1 pair of states incompatible, not planned: Picky.compatible() returned False"
+    assert expected in _explanation(task)
 
 
 def test_planner_failure_comment(make_task, ready_scene, box):

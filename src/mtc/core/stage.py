@@ -828,7 +828,8 @@ class MonitoringGenerator(Generator):
         monitored = self._monitored
         if monitored is None or monitored._solutions:
             return ""
-        return f"its monitored stage '{monitored._name}' has no solutions (nothing failed: does that stage wait for this one?)"
+        return (f"its monitored stage '{monitored._name}' has no solutions "
+                "(nothing failed: does that stage wait for this one?)")
 
     def _initFinish(self, robot_model) -> None:
         if self._monitored is None:

@@ -441,7 +441,9 @@ def time_parameterize(
     if max_cartesian_speed > 0:
         P, PJ = _link_positions(trajectory, cartesian_speed_limited_link)
     timed = _straight_line(Q, vmax, amax) if P is None and len(Q) > 1 else None
-    times, V, A = timed if timed is not None else _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed), PJ)
+    if timed is None:
+        timed = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed), PJ)
+    times, V, A = timed
     trajectory.times = times
     trajectory.velocities = V
     trajectory.accelerations = A

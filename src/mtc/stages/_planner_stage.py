@@ -15,7 +15,9 @@ from mtc.core.storage import InterfaceState, SubTrajectory
 from mtc.planners.planner_interface import PlannerResult
 from mtc.stages._common import ik_frame_from_args
 
-__all__ = ["PlannerStage", "check_planner", "init_planner", "plan_to_ik_frame", "planner_message", "synthesized_trajectory"]
+__all__ = [
+    "PlannerStage", "check_planner", "init_planner", "plan_to_ik_frame", "planner_message", "synthesized_trajectory",
+]
 
 
 def planner_message(result) -> str:

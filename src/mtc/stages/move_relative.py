@@ -189,7 +189,9 @@ class MoveRelative(PlannerStage):
                 linear = frame[:3, :3] @ linear
                 target = start_pose.copy()
                 target[:3, 3] += linear
-            result, trajectory = plan_to_ik_frame(self._planner, state.scene, ik, target, group, timeout, path_constraints)
+            result, trajectory = plan_to_ik_frame(
+                self._planner, state.scene, ik, target, group, timeout, path_constraints
+            )
             success = bool(result)
             comment = "" if success else planner_message(result)
             if trajectory is not None and len(trajectory) > 0:

@@ -109,7 +109,9 @@ class MoveTo(PlannerStage):
                 target[:3, 3] = frame[:3, :3] @ np.array([p.x, p.y, p.z], dtype=float) + frame[:3, 3]
             else:
                 return False, scene, SubTrajectory.failure(f"invalid goal type: {type_name(goal)}")
-            result, trajectory = plan_to_ik_frame(self._planner, state.scene, ik, target, group, timeout, path_constraints)
+            result, trajectory = plan_to_ik_frame(
+                self._planner, state.scene, ik, target, group, timeout, path_constraints
+            )
             ns = props.get("marker_ns", "")
             frame = scene.planning_frame
             markers = [frame_marker(ns, "target frame", target, frame), frame_marker(ns, "ik frame", ik.pose, frame)]
