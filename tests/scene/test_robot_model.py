@@ -285,6 +285,19 @@ def test_joint_limits_must_be_positive(toy, value):
     assert model.acceleration_limits.tolist() == [1.0, 1.0, 1.0]
 
 
+def test_joint_limits_yaml_as_loaded(toy):
+    """The whole content of MoveIt's joint_limits.yaml (default scaling factors beside a
+    joint_limits section) is taken: its joint_limits section."""
+    from scene_helpers import TOY_SRDF, TOY_URDF
+
+    yaml_content = {"default_velocity_scaling_factor": 0.1, "default_acceleration_scaling_factor": 0.1,
+                    "joint_limits": {"link1-link2-joint": {"has_velocity_limits": True, "max_velocity": 2.5,
+                                                           "has_acceleration_limits": True, "max_acceleration": 7.0}}}
+    model = RobotModel(str(TOY_URDF), str(TOY_SRDF), joint_limits=yaml_content)
+    assert model.velocity_limits.tolist() == [1.0, 2.5, 1.0]
+    assert model.acceleration_limits.tolist() == [1.0, 7.0, 1.0]
+
+
 def test_every_srdf_element_resolves(toy):
     """Groups from joints, links, chains and subgroups; passive joints are not active; default-collision entries."""
     from scene_helpers import TOY_URDF

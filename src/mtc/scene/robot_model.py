@@ -205,8 +205,9 @@ class RobotModel:
         package_dirs: folders searched for ``package://`` mesh URIs, in addition to the
             ``example-robot-data`` install.
         joint_limits: optional per-joint overrides ``{joint: {"max_velocity": v,
-            "max_acceleration": a}}`` (as MoveIt's ``joint_limits.yaml``: a limit whose
-            ``has_velocity_limits`` / ``has_acceleration_limits`` is false is left out).
+            "max_acceleration": a}}`` (as MoveIt's ``joint_limits.yaml``, whose whole loaded
+            content may be given too: a limit whose ``has_velocity_limits`` /
+            ``has_acceleration_limits`` is false is left out).
         convex_collision_meshes: check robot link meshes as their convex hulls (about 4x
             faster, slightly conservative); world objects keep their exact meshes.
 
@@ -444,6 +445,10 @@ class RobotModel:
                 )
         self.passive_joint_names = list(srdf.passive_joints)
         self.acceleration_limits = np.full(len(self.variable_names), DEFAULT_ACCELERATION_LIMIT)
+        if isinstance(joint_limits.get("joint_limits"), dict):
+            # the whole of MoveIt's joint_limits.yaml: its per-joint part (the default scaling
+            # factors beside it are the requests' business: stage properties here)
+            joint_limits = joint_limits["joint_limits"]
         for joint, limits in joint_limits.items():
             i = self.variable_index(joint)
             for key, flag, values in (("max_velocity", "has_velocity_limits", self.velocity_limits),
