@@ -360,7 +360,8 @@ def test_pose_goal_failure_names_the_ik_frame_and_why(make_task, start_scene, bo
 
 def test_failure_names_a_link_ik_frame_as_given(make_task, start_scene):
     """A planner message about the link the ik_frame is fixed to names the ik_frame."""
-    planner = RecordingPlanner(PlannerResult(False, "NO_IK_SOLUTION: nothing for 'panda_link7' here"))
+    planner = RecordingPlanner(PlannerResult(False, "NO_IK_SOLUTION: nothing for 'panda_link7' here; "
+                                                    "orientation constraint on 'panda_link7' violated"))
     move = stages.MoveTo("move", planner)
     move.group = "panda_arm"
     move.ik_frame = "panda_hand"
@@ -368,7 +369,8 @@ def test_failure_names_a_link_ik_frame_as_given(make_task, start_scene):
     task = make_task(stages.FixedState("start", start_scene), move)
     assert not task.plan()
     assert planner.calls[0][1] == "panda_link7"  # the planners move the frame's rigid parent
-    assert move.failures[0].comment == "NO_IK_SOLUTION: nothing for 'panda_hand' here"
+    assert move.failures[0].comment == ("NO_IK_SOLUTION: nothing for 'panda_hand' here; "
+                                        "orientation constraint on 'panda_link7' violated")  # (a real link)
 
     # an ik_frame given as a pose in the planning frame is carried by the tip: messages name the tip
     planner = RecordingPlanner(PlannerResult(False, "NO_IK_SOLUTION: nothing for 'panda_link8' here"))

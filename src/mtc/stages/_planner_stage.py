@@ -31,8 +31,12 @@ def plan_to_ik_frame(planner, scene, ik, target, group: str, timeout: float, pat
     (``'panda_hand_tcp'``, not ``'panda_link7'``)."""
     result, trajectory = planner.plan_to_pose(scene, ik.link, ik.offset, target, group, timeout, path_constraints)
     message = planner_message(result)
-    if not result and ik.name and ik.name != ik.link and f"'{ik.link}'" in message:
-        result = PlannerResult(False, message.replace(f"'{ik.link}'", f"'{ik.name}'"))
+    if not result and ik.name and ik.name != ik.link:
+        # the planners' "for '<link>'" / "of '<link>'" (not, say, a constraint "on '<link>'")
+        for word in ("for", "of"):
+            message = message.replace(f"{word} '{ik.link}'", f"{word} '{ik.name}'")
+        if message != planner_message(result):
+            result = PlannerResult(False, message)
     return result, trajectory
 
 
