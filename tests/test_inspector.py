@@ -298,6 +298,32 @@ def test_saved_file_serves_the_same_tree(pickplace_task, tmp_path, served):
     assert mi.Inspector(loaded, viewer=False)._model is task.getRobotModel()
 
 
+def test_a_stage_note_is_served_and_saved(tmp_path, served):
+    """A failure MTC leaves without a comment (here: a predicate's bare rejection) and a stage
+    that never ran say why in the tree's ``note`` (the list title and failure count's tooltip
+    show it), live and from a saved file; a file without notes loads with empty ones."""
+    from mtc import stages
+
+    mockups.resetMockupIds()
+    task = core.Task()
+    task.setRobotModel(mockups.toy_model())
+    gen = mockups.GeneratorMockup([1.0])
+    task.add(stages.PredicateFilter("filter", gen))
+    task["filter"].predicate = lambda s: False
+    assert not task.plan()
+    live = get(served(task.introspection(), viewer=False) + "api/tree")
+    notes = {s["name"]: s["note"] for s in live["stages"]}
+    assert notes["filter"] == "rejected by the predicate" and notes[gen.name] == ""
+    path = tmp_path / "task.json"
+    introspection_io.save(task, path, task.introspection())
+    assert get(served(introspection_io.load(path), viewer=False) + "api/tree")["stages"] == live["stages"]
+    data = json.loads(path.read_text())
+    for stage in data["stages"]:
+        del stage["note"]
+    path.write_text(json.dumps(data))
+    assert all(s["note"] == "" for s in introspection_io.load(path).stages)
+
+
 def test_command_line_without_file_explains_usage():
     """python -m mtc.inspect without a file prints usage and how to write a file."""
     r = subprocess.run([sys.executable, "-m", "mtc.inspect"], capture_output=True, text=True, timeout=60)
@@ -459,6 +485,33 @@ def test_page_lists_stages_and_plays_a_solution(pickplace_task, browser, tmp_pat
         shot = tmp_path / "inspector.png"
         assert browser.save_screenshot(str(shot)) and shot.stat().st_size > 1000
         print("screenshot:", shot)
+    finally:
+        introspection.stop()
+
+
+def test_page_shows_a_stage_note(browser):
+    """A stage's note is the tooltip of its failure count and follows its name above the list."""
+    from selenium.webdriver.common.by import By
+
+    from mtc import stages
+
+    mockups.resetMockupIds()
+    task = core.Task()
+    task.setRobotModel(mockups.toy_model())
+    task.add(stages.PredicateFilter("filter", mockups.GeneratorMockup([1.0])))
+    task["filter"].predicate = lambda s: False
+    assert not task.plan()
+    introspection = task.introspection()
+    url = mi.serve(introspection, viewer=False)
+    try:
+        browser.get(url)
+        js_wait(browser, "window.inspector && window.inspector.treeLoaded", 20, "the stage tree")
+        row = next(r for r in browser.find_elements(By.CSS_SELECTOR, "#tree tbody tr")
+                   if r.find_element(By.CSS_SELECTOR, "td.name").text == "filter")
+        assert row.find_element(By.CSS_SELECTOR, "td.nfail").get_attribute("title") == "rejected by the predicate"
+        row.click()
+        js_wait(browser, "document.getElementById('list-title').textContent.includes('rejected')", 20, "the title")
+        assert browser.find_element(By.ID, "list-title").text == "filter: rejected by the predicate"
     finally:
         introspection.stop()
 

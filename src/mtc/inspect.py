@@ -197,6 +197,7 @@ class Inspector:
                     "num_solutions": st.get("num_solutions", len(st["solutions"])),
                     "num_failures": st.get("num_failures", len(st["failures"])),
                     "stored_failures": len(st["failures"]),
+                    "note": st.get("note", ""),
                     "total_compute_time": st.get("total_compute_time", 0.0),
                 }
             )
@@ -622,7 +623,8 @@ async function loadTree(refresh) {
     cell(row, s.arrows[0], "arrow");
     cell(row, s.num_solutions, "nsol");
     cell(row, s.arrows[1], "arrow");
-    cell(row, s.num_failures, "nfail");
+    const nfail = cell(row, s.num_failures, "nfail");
+    if (s.note) nfail.title = s.note;
     cell(row, s.total_compute_time.toFixed(4), "time");
     row.onclick = () => selectStage(s);
   }
@@ -645,7 +647,7 @@ async function selectStage(s, kind) {
   markSelected($("tree").tBodies[0], "id", s.id);
   $("tab-solutions").classList.toggle("on", inspector.kind === "solutions");
   $("tab-failures").classList.toggle("on", inspector.kind === "failures");
-  $("list-title").textContent = s.name;
+  $("list-title").textContent = s.note ? `${s.name}: ${s.note}` : s.name;
   $("list").tBodies[0].replaceChildren();
   inspector.listed = 0;
   await loadMore();

@@ -33,7 +33,9 @@ class Introspection:
     Attributes:
         stages: list of dicts with ``id``, ``parent_id``, ``name``, ``depth``, ``flags``,
             ``solutions`` (list of ``{"id", "cost", "comment"}``), ``failures`` (same),
-            ``num_failures``, ``total_compute_time`` [s] and ``properties`` (name -> str).
+            ``num_failures``, ``note`` (why the stage failed or never ran where no stored
+            failure says it, as ``explainFailure`` words it; "" if nothing to say),
+            ``total_compute_time`` [s] and ``properties`` (name -> str).
     """
 
     def __init__(self, task=None):
@@ -93,6 +95,7 @@ class Introspection:
                     "solutions": [self._info(s) for s in stage._solutions],
                     "failures": [self._info(s) for s in stage._failures],
                     "num_failures": stage._num_failures,
+                    "note": stage._note(),
                     "total_compute_time": stage._total_compute_time,
                     "properties": {k: p.serialize() for k, p in stage._properties.items()},
                 }

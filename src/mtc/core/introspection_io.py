@@ -5,7 +5,8 @@ TaskStatistics and Solution messages in one document, semantics §1.11, §8.2):
 
 * ``stages``: one entry per stage in ``traverseRecursively`` order of the root container
   (root included): ``id``, ``parent_id`` (the task is 0), ``name``, ``depth``, ``flags``
-  (interface flags), ``num_solutions``, ``num_failures``, ``total_compute_time`` [s],
+  (interface flags), ``num_solutions``, ``num_failures``, ``note`` (why the stage failed or
+  never ran where no stored failure says it; "" if nothing to say), ``total_compute_time`` [s],
   ``properties`` (name -> text), ``solutions`` and ``failures`` (lists of
   ``{"id", "cost", "comment"}``, solutions cheapest first).
 * ``solutions``: every solution and failure of every stage and every part of them, by id:
@@ -219,6 +220,7 @@ def snapshot(task, introspection=None, contents: bool = True) -> dict[str, Any]:
                 "flags": stage.interfaceFlags(),
                 "num_solutions": len(stage.solutions),
                 "num_failures": stage.numFailures(),
+                "note": stage._note(),
                 "total_compute_time": stage.getTotalComputeTime(),
                 "properties": {k: p.serialize() for k, p in stage.properties.items()},
                 "solutions": [info(s) for s in stage.solutions],
@@ -360,6 +362,7 @@ class IntrospectionData:
             st.setdefault("parent_id", 0)
             st.setdefault("num_solutions", len(st["solutions"]))
             st.setdefault("num_failures", len(st["failures"]))
+            st.setdefault("note", "")
         sols = data.get("solutions", [])
         if not isinstance(sols, list):
             raise ValueError(f"{where}: 'solutions' must be a list")

@@ -368,6 +368,11 @@ class Stage(TypedPropertyAccess):
         (a hint for :meth:`Task.explainFailure` when no stage failed), or ""."""
         return ""
 
+    def _note(self) -> str:
+        """Why this stage failed or never ran where no stored failure says it: the noted
+        reason, else (without solutions) the idle reason; "" if none (for introspection)."""
+        return self._failure_note or ("" if self._solutions else self._idleReason())
+
     def _failureExplanation(self) -> str:
         """What explainFailure says after ``name (0/n)``: the first stored failure's comment,
         or else the noted reason."""
