@@ -82,10 +82,18 @@ def test_version_bumps_on_every_change():
 
 
 def test_bad_arguments():
-    """allowed must be a bool; names must be strings or lists of strings."""
+    """allowed must be a bool (or a number, read as one, as moveit_py's pybind11 caster reads
+    it); names must be strings or lists of strings."""
+    acm = AllowedCollisionMatrix()
+    acm.set_entry("a", "b", 1)
+    assert acm.get_entry("a", "b") is True
+    acm.set_entry("a", 0)
+    assert acm.get_entry("a", "b") is False
+    acm.set_default_entry("c", 1)
+    assert acm.get_default_entry("c") is True
     acm = AllowedCollisionMatrix()
     with pytest.raises(TypeError, match="allowed must be True or False"):
-        acm.set_entry("a", "b", 1)
+        acm.set_entry("a", "b", "yes")
     with pytest.raises(TypeError, match="allowed must be True or False"):
         acm.set_entry("a", "b")
     with pytest.raises(TypeError, match="allowed must be True or False"):

@@ -760,7 +760,7 @@ def test_acm_entries(scene):
     with pytest.raises(TypeError, match="allowed"):
         acm.set_entry("a", "b", "yes")
     with pytest.raises(TypeError, match="allowed"):
-        acm.set_default_entry("a", 1)
+        acm.set_default_entry("a", "no")
 
 
 # ---------------------------------------------------------------------------- diff()

@@ -70,11 +70,9 @@ class AllowedCollisionMatrix:
         Each of ``first``/``second`` is a name or a list of names (all pairs are set).
         ``set_entry(name, allowed)`` sets every existing entry of ``name``.
         """
-        if allowed is None and msgs.is_bool(second):
+        if allowed is None and (msgs.is_bool(second) or msgs.is_number(second)):
             second, allowed = None, second
-        if not msgs.is_bool(allowed):
-            raise TypeError(f"allowed must be True or False, not {allowed!r}")
-        allowed = bool(allowed)
+        allowed = msgs.flag(allowed, "allowed")  # (a number reads as a bool, as pybind11's caster reads it)
         firsts = self._names(first, "first")
         if second is None:
             for name in firsts:
@@ -112,9 +110,7 @@ class AllowedCollisionMatrix:
     def set_default_entry(self, name: str, allowed: bool) -> None:
         """Allow (True) or stop allowing (False) collisions of ``name`` with anything that has
         no explicit entry with it."""
-        if not msgs.is_bool(allowed):
-            raise TypeError(f"allowed must be True or False, not {allowed!r}")
-        allowed = bool(allowed)
+        allowed = msgs.flag(allowed, "allowed")
         self._defaults[name] = allowed
         self._changed()
 
