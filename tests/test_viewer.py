@@ -653,8 +653,8 @@ def marker_nodes(tree: dict, index: int) -> list[dict]:
 
 
 def test_markers_are_drawn_in_their_frames_and_replaced(panda_viewer):
-    """Frames (three axis rods), arrows (shaft and cone, in their colour) and an end effector
-    at a target (its links' visuals, half transparent), each in its frame resolved in the
+    """Frames (three axis rods), arrows (shaft and cone, in their colour), contacts (a red ball)
+    and an end effector at a target (its links' visuals, half transparent), each in its frame resolved in the
     scene; live markers and markers read back from an introspection file draw alike. Unknown
     kinds and frames are skipped, and the next call replaces what was drawn."""
     import json
@@ -673,9 +673,11 @@ def test_markers_are_drawn_in_their_frames_and_replaced(panda_viewer):
         eef_marker(scene, "panda_link8", target),
         {"type": "text", "ns": "x", "name": "unknown kind"},
         arrow_marker("approach", "b", (0, 0, 0), (0.1, 0, 0), "green", "nowhere"),
+        {"type": "contact", "ns": "collisions", "name": "panda_hand - box", "frame_id": "world",
+         "position": [0.3, 0.1, 0.5], "color": "red"},
     ]
     for drawn in (markers, json.loads(json.dumps(_plain(markers)))):
-        assert panda_viewer.show_markers(drawn, scene) == 3
+        assert panda_viewer.show_markers(drawn, scene) == 4
         tree = server_tree(panda_viewer)
         axes = marker_nodes(tree, 0)
         assert len(axes) == 3  # x, y, z rods from the hand's origin
@@ -697,7 +699,11 @@ def test_markers_are_drawn_in_their_frames_and_replaced(panda_viewer):
         link_pose = target @ np.linalg.inv(scene.current_state.get_global_link_transform("panda_link8")) \
             @ scene.current_state.get_global_link_transform(pm.frames[go.parentFrame].name)
         np.testing.assert_allclose(links[0]["transform"], link_pose @ offset, atol=1e-9)
-        assert not marker_nodes(tree, 3)
+        (contact,) = marker_nodes(tree, 3)  # a red ball at the contact point (drawn ones are numbered)
+        assert contact["object"]["geometries"][0]["type"] == "SphereGeometry"
+        assert contact["object"]["materials"][0]["color"] == 0xD02020
+        np.testing.assert_allclose(contact["transform"][:3, 3], [0.3, 0.1, 0.5], atol=1e-12)
+        assert not marker_nodes(tree, 4)
     panda_viewer.clear_markers()
     assert not [p for p in server_tree(panda_viewer) if p.startswith(f"{ROOT_PATH}/markers/")]
 

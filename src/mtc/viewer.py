@@ -750,7 +750,7 @@ def _rod(p0: np.ndarray, p1: np.ndarray, radius: float, color: int, opacity: flo
 
 def _marker_parts(model: RobotModel, marker: dict) -> tuple[str, list[tuple[dict, np.ndarray]]] | None:
     """``(frame id, [(meshcat object, pose in that frame)])`` of one solution marker, as the
-    stages make them (``{"type": "frame" | "arrow" | "links", ...}``, live or read back from an
+    stages make them (``{"type": "frame" | "arrow" | "contact" | "links", ...}``, live or read back from an
     introspection file); None for a marker the viewer does not draw."""
     kind = marker.get("type") if isinstance(marker, dict) else None
     parts: list[tuple[dict, np.ndarray]] = []
@@ -775,6 +775,13 @@ def _marker_parts(model: RobotModel, marker: dict) -> tuple[str, list[tuple[dict
         head = end - (end - start) * min(1.0, 4.0 * radius / length)
         parts = [p for p in (_rod(start, head, radius, color), _rod(head, end, radius, color, cone=True)) if p]
         return marker.get("frame_id", ""), parts
+    if kind == "contact":
+        import meshcat.geometry as mg
+
+        color = _MARKER_COLORS.get(marker.get("color"), _MARKER_COLORS["red"])
+        T = np.eye(4)
+        T[:3, 3] = np.asarray(marker["position"], dtype=float)
+        return marker.get("frame_id", ""), [(_mesh_object(mg.Sphere(0.01).lower({}), _material(color, 1.0)), T)]
     if kind == "links":
         color = _MARKER_COLORS.get(marker.get("color"))
         opacity = float(marker.get("opacity", 0.5))

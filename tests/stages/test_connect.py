@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from mtc import core, msgs, stages
@@ -294,6 +295,11 @@ def test_planner_failure_comment(make_task, ready_scene, box):
     assert not task.plan()
     assert c.failures[0].comment == "Waypoint is in collision!"
     assert isinstance(c.failures[0], core.SolutionSequence)
+    # as MTC, collision markers on the failed (last) segment, where it stopped
+    (marker,) = c.failures[0].solutions[-1].markers
+    assert marker["type"] == "contact" and marker["name"].endswith(" - wall")
+    wall = start.get_world_object("wall").pose[:3, 3]
+    assert np.linalg.norm(np.subtract(marker["position"], wall)) < 0.1
 
 
 def test_cartesian_branches_fail(make_task, ready_scene):

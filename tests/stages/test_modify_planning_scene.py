@@ -239,6 +239,9 @@ def test_resulting_collision_is_a_failure(make_task, box):
     assert not task.plan()
     comment = m.failures[0].comment
     assert " colliding with " in comment and "wall" in comment
+    # as MTC, collision markers: a contact of every colliding pair
+    contacts = [mk for mk in m.failures[0].markers if mk["type"] == "contact"]
+    assert contacts and all("wall" in mk["name"] and mk["color"] == "red" for mk in contacts)
 
 
 def test_failures_are_only_counted_without_introspection(make_task, box):

@@ -281,6 +281,27 @@ def test_pose_goal_in_another_frame(make_task, start_scene, move):
     assert reached[:3, 3] == pytest.approx(start[:3, 3] + start[:3, 2] * 0.05, abs=1e-3)
 
 
+def test_collision_failure_carries_contact_markers(make_task, ready_scene, move, box):
+    """As MTC, a failure that ends in a collision shows where: a red contact marker per
+    colliding pair at the failure's last state (here a box half way from 'ready' to 'extended');
+    a failure ending free of collisions has none."""
+    ready_scene.apply_collision_object(box("wall", (0.32, 0.0, 0.96), size=(0.05, 0.05, 0.05)))
+    move.setGoal("extended")
+    task = make_task(stages.FixedState("start", ready_scene), move)
+    assert not task.plan()
+    failure = move.failures[0]
+    assert failure.comment == "Waypoint is in collision!"
+    assert [mk["name"] for mk in failure.markers] == ["panda_link6 - wall"]
+    assert failure.markers[0]["type"] == "contact" and failure.markers[0]["color"] == "red"
+
+    out_of_bounds = stages.MoveTo("far", JointInterpolationPlanner())
+    out_of_bounds.group = "panda_arm"
+    out_of_bounds.setGoal({"panda_joint1": 3.5})
+    task = make_task(stages.FixedState("start", ready_scene), out_of_bounds)
+    assert not task.plan()
+    assert out_of_bounds.failures[0].markers == []
+
+
 @pytest.mark.parametrize(
     ("configure", "message"),
     [

@@ -13,9 +13,9 @@ need the same conversions, so they live here once:
 * Directions of ``MoveRelative``: ``TwistStamped`` | ``Vector3Stamped`` | ``{joint: delta}``
   (:func:`check_direction`, :func:`joint_deltas`).
 * Collision pairs in comments: ``"a - b, c - d"`` (:func:`format_collision_pairs`).
-* Markers on solutions (:func:`frame_marker`, :func:`arrow_marker`): ``mtc`` has no ROS marker
-  message, so a marker is a plain dict ``{"type": "frame"|"arrow", "ns", "name", ...}``, for
-  viewers and introspection.
+* Markers on solutions (:func:`frame_marker`, :func:`arrow_marker`, :func:`contact_markers`):
+  ``mtc`` has no ROS marker message, so a marker is a plain dict ``{"type": "frame"|"arrow"|
+  "contact", "ns", "name", ...}``, for viewers and introspection.
 
 Errors are exceptions here; each stage turns them into its own failure comment or init error.
 """
@@ -348,3 +348,14 @@ def arrow_marker(ns: str, name: str, start, end, color: str = "green", frame_id:
     return {"type": "arrow", "ns": ns, "name": name, "frame_id": frame_id,
             "start": np.asarray(start, dtype=float).tolist(), "end": np.asarray(end, dtype=float).tolist(),
             "color": color}
+
+
+def contact_markers(scene, state=None, ns: str = "collisions") -> list[dict]:
+    """MTC's collision markers: one red ``{"type": "contact", "ns", "name": "a - b", "frame_id",
+    "position"}`` marker at the first contact point of each colliding pair of ``scene`` (with
+    ``state``, default its current state); none where nothing collides."""
+    return [
+        {"type": "contact", "ns": ns, "name": f"{a} - {b}", "frame_id": scene.planning_frame,
+         "position": np.asarray(contacts[0][0], dtype=float).tolist(), "color": "red"}
+        for a, b, contacts in scene.get_contacts(state) if contacts
+    ]

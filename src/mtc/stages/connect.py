@@ -17,6 +17,7 @@ from mtc.core.cost_terms import PathLength
 from mtc.core.stage import Connecting, InitStageError
 from mtc.core.storage import InterfaceState, SolutionSequence, SubTrajectory
 from mtc.planners.time_parameterization import TimeOptimalTrajectoryGeneration, TimeParameterization
+from mtc.stages._common import contact_markers
 from mtc.stages._planner_stage import check_planner, init_planner, planner_message
 
 __all__ = ["Connect", "MergeMode"]
@@ -215,6 +216,11 @@ class Connect(Connecting):
             solution = self._makeSequential(trajectories, intermediate_scenes, from_state, to_state)
         if not success:
             solution.markAsFailure(comment)
+            failed = trajectories[-1]
+            if failed is not None and len(failed) > 0:
+                # as MTC: the collisions where the failed segment ends, shown on that segment
+                planned_in = intermediate_scenes[len(trajectories) - 1]
+                solution.solutions[-1].markers.extend(contact_markers(planned_in, failed.waypoints[-1]))
         self.connect(from_state, to_state, solution)
 
     def _makeSequential(self, trajectories, intermediate_scenes, from_state, to_state) -> SolutionSequence:

@@ -14,7 +14,7 @@ from mtc import msgs
 from mtc.core.cost_terms import Constant
 from mtc.core.stage import PropagatingEitherWay
 from mtc.core.storage import InterfaceState, SubTrajectory
-from mtc.stages._common import first_collision_pair, format_collision_pairs
+from mtc.stages._common import contact_markers, first_collision_pair, format_collision_pairs
 
 __all__ = ["ModifyPlanningScene"]
 
@@ -171,6 +171,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
                 # as MTC: one contact names the failure (all pairs go to the log)
                 a, b = first_collision_pair(pairs)
                 solution.markAsFailure(f"{a} colliding with {b}")
+                solution.markers.extend(contact_markers(scene))
                 log.info("%s: colliding pairs: %s", self.name, format_collision_pairs(pairs))
         except KeyError as e:  # unknown object/link: the message is the first argument
             solution.markAsFailure(msgs.error_text(e) if e.args else repr(e))

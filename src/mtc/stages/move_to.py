@@ -18,6 +18,7 @@ from mtc.stages._common import (
     FrameError,
     GoalError,
     check_goal,
+    contact_markers,
     frame_marker,
     frame_pose,
     is_joint_goal,
@@ -139,4 +140,5 @@ class MoveTo(PlannerStage):
         solution = SubTrajectory(trajectory)
         if not success:
             solution.markAsFailure(planner_message(result))  # (MTC's comment: the planner's message)
+            solution.markers.extend(contact_markers(scene))  # as MTC: collisions where it ends, if any
         return True, scene, solution
