@@ -217,7 +217,7 @@ class Connect(Connecting):
         if not success:
             solution.markAsFailure(comment)
             failed = trajectories[-1]
-            if failed is not None and len(failed) > 0:
+            if failed is not None and len(failed) > 0 and self.storeFailures():
                 # as MTC: the collisions where the failed segment ends, shown on that segment
                 planned_in = intermediate_scenes[len(trajectories) - 1]
                 solution.solutions[-1].markers.extend(contact_markers(planned_in, failed.waypoints[-1]))

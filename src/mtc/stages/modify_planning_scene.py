@@ -171,7 +171,8 @@ class ModifyPlanningScene(PropagatingEitherWay):
                 # as MTC: one contact names the failure (all pairs go to the log)
                 a, b = first_collision_pair(pairs)
                 solution.markAsFailure(f"{a} colliding with {b}")
-                solution.markers.extend(contact_markers(scene))
+                if self.storeFailures():  # (markers of a failure that is only counted go nowhere)
+                    solution.markers.extend(contact_markers(scene))
                 log.info("%s: colliding pairs: %s", self.name, format_collision_pairs(pairs))
         except KeyError as e:  # unknown object/link: the message is the first argument
             solution.markAsFailure(msgs.error_text(e) if e.args else repr(e))

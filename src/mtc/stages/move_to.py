@@ -140,5 +140,6 @@ class MoveTo(PlannerStage):
         solution = SubTrajectory(trajectory)
         if not success:
             solution.markAsFailure(planner_message(result))  # (MTC's comment: the planner's message)
-            solution.markers.extend(contact_markers(scene))  # as MTC: collisions where it ends, if any
+            if self.storeFailures():  # as MTC: collisions where it ends, if any (shown only if stored)
+                solution.markers.extend(contact_markers(scene))
         return True, scene, solution
