@@ -144,13 +144,24 @@ def test_plan_timeout_zero_returns_timed_out(t):
     assert gen.runs == 0
 
 
-def test_task_cost_term_has_no_effect(t):
+def test_task_cost_term_has_no_effect(t, caplog):
     """task.cpp Task::onNewSolution does not lift: a cost term set on the Task never applies
-    (semantics Appendix A #3)."""
+    (semantics Appendix A #3). mtc keeps that and says so once (Appendix A: "document"); the
+    root container's term is the one that applies."""
     add(t, GeneratorMockup([1.0]))
-    t.setCostTerm(lambda s: 5.0)
+    with caplog.at_level("WARNING", logger="mtc.core.task"):
+        t.setCostTerm(lambda s: 5.0)
+        t.setCostTerm(lambda s: 6.0)
+    assert [r.getMessage() for r in caplog.records if "setCostTerm" in r.getMessage()] == [
+        "Task.setCostTerm() does not change the costs of task.solutions() (as in MTC, the task never "
+        "applies its own term): set it on the root container, task.stages.setCostTerm(...)"]
     assert t.plan()
     assert costs(t.solutions) == [1.0]
+    root = make_task()
+    add(root, GeneratorMockup([1.0]))
+    root.stages.setCostTerm(lambda s: 5.0)
+    assert root.plan()
+    assert costs(root.solutions) == [5.0]
 
 
 # --- cost terms --------------------------------------------------------------------------------
@@ -317,6 +328,44 @@ def test_assigning_none_to_a_property_is_a_type_error():
     with pytest.raises(TypeError):
         p.setCurrentValue(None)
     assert p.value() == "x"
+
+
+def test_property_set_value_converts_as_the_map_does():
+    """properties.cpp (the same commit): ``Property.setValue`` and ``setCurrentValue`` go
+    through fromPython as ``props[k] = v`` does, so a value of no convertible type (a list, an
+    arbitrary object) raises TypeError on an untyped property and leaves it untouched. A typed
+    property still takes values of its type."""
+    p = core.Property()
+    p.setValue(2)
+    for value in ([1, 2], object()):
+        with pytest.raises(TypeError, match="no conversion available for property type"):
+            p.setValue(value)
+        with pytest.raises(TypeError, match="no conversion available for property type"):
+            p.setCurrentValue(value)
+    assert p.value() == 2 and p.defaultValue() == 2
+    typed = core.Property(list)
+    typed.setValue([1, 2])
+    typed.setCurrentValue([3])
+    assert typed.value() == [3]
+
+
+def test_binding_keywords_comment_and_pos():
+    """core.cpp binds ``markAsFailure("comment"_a)`` and ``remove("pos"_a)``; mtc also keeps
+    its own names (``msg``, ``child``)."""
+    s = core.SubTrajectory()
+    s.markAsFailure(comment="too far")
+    assert s.isFailure and s.comment == "too far"
+    with pytest.raises(TypeError, match="msg or comment="):
+        core.SubTrajectory().markAsFailure("a", comment="b")
+    c = core.SerialContainer()
+    a, b = GeneratorMockup(), GeneratorMockup()
+    c.add(a, b)
+    assert c.remove(pos=0) is a and len(c) == 1
+    assert c.remove(child=b) is b and len(c) == 0
+    with pytest.raises(TypeError, match="remove\\(\\) takes one child"):
+        c.remove()
+    with pytest.raises(TypeError, match="pos must be a child position"):
+        c.remove(pos="x")
 
 
 # --- introspection ids -------------------------------------------------------------------------

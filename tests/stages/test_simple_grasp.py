@@ -68,6 +68,19 @@ def test_children_of_simple_ungrasp():
     assert stages.SimpleUnGrasp().name == "ungrasp"
 
 
+def test_simple_grasp_base_is_abstract():
+    """Semantics §4.6: SimpleGraspBase is abstract; its subclasses are the stages to use."""
+    with pytest.raises(TypeError, match="SimpleGraspBase is abstract.*SimpleGrasp or SimpleUnGrasp"):
+        stages.SimpleGraspBase("x")
+
+    class Mine(stages.SimpleGraspBase):
+        def __init__(self):
+            super().__init__("mine")
+            self._setup(None, True)
+
+    assert [c.name for c in Mine()] == [c.name for c in stages.SimpleGrasp(None)]
+
+
 def test_properties():
     """eef/object declared; ComputeIK's max_ik_solutions, timeout, ik_frame and the MoveTo's
     group, goal exposed; the grasp properties are forwarded by every child."""

@@ -188,8 +188,15 @@ class ContainerBase(Stage):
         self._children.insert(pos, stage)
         stage._parent = self
 
-    def remove(self, child: int | Stage) -> Stage | None:
-        """Remove a child given by position or object; return it (None if not found)."""
+    def remove(self, child: int | Stage | None = None, *, pos: int | None = None) -> Stage | None:
+        """Remove a child given by position or object; return it (None if not found).
+
+        The position may also be given as ``pos=`` (the keyword of MTC's ``remove(pos)``).
+        """
+        if (child is None) == (pos is None):
+            raise TypeError("remove() takes one child: a position (child or pos=) or a stage (child=)")
+        if pos is not None:
+            child = _index(pos, "pos")
         if isinstance(child, Stage):
             for i, c in enumerate(self._children):
                 if c is child:

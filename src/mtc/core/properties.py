@@ -364,10 +364,17 @@ class Property:
         """Set current *and* default value; survives :meth:`reset` (a manual, persistent value).
 
         Raises:
-            TypeError: ``value`` is None (as MTC's binding: None has no C++ value).
+            TypeError: ``value`` is None (as MTC's binding: None has no C++ value), or the
+                property has no declared type and ``value`` is not of a type MTC's binding
+                converts (as ``map[key] = value``).
         """
-        _not_none(value, "Property.setValue")
+        self._check_assignable(value, "Property.setValue")
         self._setValue(value)
+
+    def _check_assignable(self, value, what: str) -> None:
+        _not_none(value, what)
+        if self._type is None:
+            _convertible(value, what)
 
     def _setValue(self, value) -> None:
         # (PropertyMap.set, as C++'s set(name, boost::any()), may make a property undefined)
@@ -389,9 +396,9 @@ class Property:
         """Set the current value only; :meth:`reset` drops it again.
 
         Raises:
-            TypeError: ``value`` is None.
+            TypeError: as :meth:`setValue`.
         """
-        _not_none(value, "Property.setCurrentValue")
+        self._check_assignable(value, "Property.setCurrentValue")
         self._setCurrent(value)
 
     def _setCurrent(self, value) -> None:
@@ -831,10 +838,12 @@ class _PropertyAttribute:
         if p is None:
             obj.__dict__[name] = value
             return
-        if value is None and p._type is not None:
-            raise TypeError(f"property '{name}' expects {_type_name(p._type)}, got None")
+        if value is None:
+            if p._type is not None:
+                raise TypeError(f"property '{name}' expects {_type_name(p._type)}, got None")
+            _not_none(value, f"property '{name}'")
         try:
-            p.setValue(value)
+            p._setValue(value)
         except PropertyError as e:
             e.setName(name)
             raise

@@ -533,8 +533,15 @@ class SolutionBase:
         """Whether the cost is not finite (read-only attribute, as MTC's Python binding)."""
         return not (-INF < self._cost < INF)
 
-    def markAsFailure(self, msg: str = "") -> None:
-        """Make this a failure: infinite cost; ``msg`` is prepended to the comment."""
+    def markAsFailure(self, msg: str = "", *, comment: str | None = None) -> None:
+        """Make this a failure: infinite cost; ``msg`` is prepended to the comment.
+
+        ``comment=`` is the same argument under the keyword of MTC's binding.
+        """
+        if comment is not None:
+            if msg:
+                raise TypeError("markAsFailure() takes the message once: msg or comment=")
+            msg = comment
         self._cost = INF
         if msg:
             self._comment = f"{msg}\n{self._comment}" if self._comment else msg

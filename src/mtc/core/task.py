@@ -111,6 +111,7 @@ class Task(WrapperBase):
         self._introspection_enabled = msgs.flag(introspection, "introspection")
         self._introspection_obj = None
         self._plan_lock = threading.Lock()
+        self._warned_cost_term = False
         self._stopped_by = ""  # what stopped the last plan() early (timeout, preempt), for explainFailure
         self.setPruning(False)
         self.setTimeout(sys.float_info.max)
@@ -120,6 +121,18 @@ class Task(WrapperBase):
     def stages(self) -> ContainerBase:
         """The root container."""
         return self._children[0]
+
+    def setCostTerm(self, term) -> None:
+        """Set the task's own cost term. As in MTC it has no effect on ``task.solutions()``:
+        the task never lifts its root container's solutions, so it never applies its term.
+        Set the term on the root container (``task.stages.setCostTerm(term)``) instead; a
+        warning says so once per task."""
+        super().setCostTerm(term)
+        if self._cost_term is not None and not self._warned_cost_term:
+            self._warned_cost_term = True
+            log.warning("Task.setCostTerm() does not change the costs of task.solutions() (as in MTC, "
+                        "the task never applies its own term): set it on the root container, "
+                        "task.stages.setCostTerm(...)")
 
     @property
     def name(self) -> str:

@@ -59,6 +59,9 @@ class SimpleGraspBase(SerialContainer):
     """
 
     def __init__(self, name: str):
+        if type(self) is SimpleGraspBase:
+            raise TypeError("SimpleGraspBase is abstract (as MTC's): construct SimpleGrasp or SimpleUnGrasp, "
+                            "or a subclass that calls _setup()")
         super().__init__(name)
         p = self.properties
         p.declare("eef", None, "end-effector to grasp with", type=str)
