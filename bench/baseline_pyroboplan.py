@@ -45,6 +45,7 @@ from bench.problems import (
     Obstacle,
     Problem,
     example_robot_data_share,
+    families,
     limit_violations,
     load_family,
     panda_joint_limits,
@@ -114,9 +115,17 @@ def _arm_models(finger: float) -> tuple[pin.Model, pin.GeometryModel]:
 def _coal_shape(obstacle: Obstacle) -> coal.CollisionGeometry:
     if obstacle.kind == "box":
         return coal.Box(*obstacle.dims)  # full extents, as coal's Box takes them
-    if obstacle.kind == "cylinder":
+    if obstacle.kind in ("cylinder", "cone"):
         height, radius = obstacle.dims
-        return coal.Cylinder(radius, height)  # coal takes (radius, full length along z)
+        shape = coal.Cylinder if obstacle.kind == "cylinder" else coal.Cone
+        return shape(radius, height)  # coal takes (radius, full length along z)
+    if obstacle.kind == "mesh":
+        mesh = coal.BVHModelOBBRSS()
+        mesh.beginModel(len(obstacle.triangles), len(obstacle.vertices))
+        mesh.addVertices(obstacle.vertices)
+        mesh.addTriangles(obstacle.triangles)
+        mesh.endModel()
+        return mesh
     return coal.Sphere(obstacle.dims[0])
 
 
@@ -301,7 +310,8 @@ def summarize(results: Sequence[dict]) -> dict:
 
 def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--families", nargs="*", default=["table_pick", "box", "bookshelf_small"])
+    parser.add_argument("--families", nargs="*", default=None,
+                        help="MotionBenchMaker families (default: every family folder under the problem root)")
     parser.add_argument("--first", type=int, default=10, help="problems per family")
     parser.add_argument("--timeout", type=float, default=10.0, help="planning time per problem [s]")
     parser.add_argument("--seed", type=int, default=0)
@@ -311,7 +321,10 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument("-v", "--verbose", action="store_true", help="one line per problem")
     args = parser.parse_args(argv)
 
-    suites: list[tuple[str, list[Problem]]] = [(f, load_family(f)[: args.first]) for f in args.families]
+    suites: list[tuple[str, list[Problem]]] = [
+        (f, load_family(f, keep_unreadable=True)[: args.first])
+        for f in (families() if args.families is None else args.families)
+    ]
     if args.table_shelf:
         is_valid = validity_checker(table_shelf_world())
         suites.append(("table_shelf", table_shelf_problems(args.table_shelf, args.seed, is_valid=is_valid)))

@@ -3,11 +3,11 @@
 Both planners get the same problems in the same run:
 
 * the MotionBenchMaker problems (``$MTC_MBM_DIR``, else ``shared/data/motion_bench_maker``
-  beside the repository, else the repository's copy in ``bench/data``; families
-  ``table_pick``, ``box``, ``bookshelf_small``), built into an mtc ``PlanningScene`` from the
-  problem's obstacles (one ``msgs.CollisionObject`` per primitive), its allowed collision
-  matrix, and the fingers fixed at the start state's opening (clamped to the URDF's 0.04 m, as
-  the baseline does);
+  beside the repository, else the repository's copy in ``bench/data``; every family folder
+  there, e.g. ``table_pick``, ``box``, ``bookshelf_small``), built into an mtc
+  ``PlanningScene`` from the problem's obstacles (one ``msgs.CollisionObject`` per primitive
+  or mesh), its allowed collision matrix, and the fingers fixed at the start state's opening
+  (clamped to the URDF's 0.04 m, as the baseline does);
 * the table-and-shelf world of ``bench/problems.py`` with seeded start/goal pairs that mtc's
   collision checker accepts;
 * with ``--generated N``: N problems each of MotionBenchMaker families the data subset does not
@@ -16,7 +16,8 @@ Both planners get the same problems in the same run:
   to the can on it), generated from MotionBenchMaker's scene configs with goals (and the
   under-the-table start) from mtc's IK.
 
-Problems whose start or goal lies outside example-robot-data's joint limits are reported
+Problems whose start or goal lies outside example-robot-data's joint limits, or whose files
+hold what the loader cannot read (a plane, a request without a joint goal), are reported
 (column "invalid"), not planned.
 
 Per family and planner: success rate, median and 90th-percentile planning time of the
@@ -61,6 +62,7 @@ from bench.problems import (  # noqa: E402
     GENERATED_FAMILIES,
     READY_ARM,
     Obstacle,
+    families as mbm_families,
     Problem,
     generated_problems,
     limit_violations,
@@ -74,8 +76,28 @@ from mtc.planners.ompl_pipeline import OMPLPipeline  # noqa: E402
 
 log = logging.getLogger(__name__)
 
-MBM_FAMILIES = ("table_pick", "box", "bookshelf_small")
-_KIND = {"box": msgs.SolidPrimitive.BOX, "sphere": msgs.SolidPrimitive.SPHERE, "cylinder": msgs.SolidPrimitive.CYLINDER}
+_KIND = {"box": msgs.SolidPrimitive.BOX, "sphere": msgs.SolidPrimitive.SPHERE,
+         "cylinder": msgs.SolidPrimitive.CYLINDER, "cone": msgs.SolidPrimitive.CONE}
+
+
+def collision_object(model: mtc.RobotModel, o: Obstacle) -> msgs.CollisionObject:
+    """The ``msgs.CollisionObject`` of one obstacle (a primitive or an inline mesh)."""
+    obj = msgs.CollisionObject(
+        id=o.name.replace("/", "#"),  # "/" would read as an object's subframe
+        header=msgs.Header(frame_id=model.model_frame),
+        operation=msgs.CollisionObject.ADD,
+    )
+    pose = msgs.matrix_to_pose(o.pose)
+    if o.kind == "mesh":
+        obj.meshes = [msgs.Mesh(
+            triangles=[msgs.MeshTriangle(vertex_indices=[int(i) for i in t]) for t in o.triangles],
+            vertices=[msgs.Point(x=float(x), y=float(y), z=float(z)) for x, y, z in o.vertices],
+        )]
+        obj.mesh_poses = [pose]
+    else:
+        obj.primitives = [msgs.SolidPrimitive(type=_KIND[o.kind], dimensions=list(o.dims))]
+        obj.primitive_poses = [pose]
+    return obj
 
 
 # ---------------------------------------------------------------------------------------------
@@ -95,15 +117,7 @@ def build_scene(model: mtc.RobotModel, obstacles: Sequence[Obstacle], allowed=()
     the fingers at ``finger``."""
     scene = mtc.PlanningScene(model)
     for o in obstacles:
-        scene.apply_collision_object(
-            msgs.CollisionObject(
-                id=o.name.replace("/", "#"),  # "/" would read as an object's subframe
-                header=msgs.Header(frame_id=model.model_frame),
-                primitives=[msgs.SolidPrimitive(type=_KIND[o.kind], dimensions=list(o.dims))],
-                primitive_poses=[msgs.matrix_to_pose(o.pose)],
-                operation=msgs.CollisionObject.ADD,
-            )
-        )
+        scene.apply_collision_object(collision_object(model, o))
     acm = scene.allowed_collision_matrix
     for a, b in allowed:
         if model.has_link_model(a) and model.has_link_model(b):
@@ -285,11 +299,11 @@ def speedup(mtc_results: Sequence[dict], base_results: Sequence[dict]) -> float:
     return statistics.median(b for _, b in both) / statistics.median(m for m, _ in both)
 
 
-def suites(families: Sequence[str], problems: int | None, table_shelf: int, seed: int, model,
+def suites(families: Sequence[str] | None, problems: int | None, table_shelf: int, seed: int, model,
            generated: int = 0, generated_families: Sequence[str] = ()) -> list:
     out = []
-    for fam in families:
-        ps = load_family(fam)
+    for fam in mbm_families() if families is None else families:
+        ps = load_family(fam, keep_unreadable=True)  # an unreadable problem is reported, not planned
         out.append((fam, ps[:problems] if problems else ps))
     if table_shelf:
         is_valid = mtc_validity(model, table_shelf_world())
@@ -302,7 +316,7 @@ def suites(families: Sequence[str], problems: int | None, table_shelf: int, seed
 
 
 def run(
-    families: Sequence[str] = MBM_FAMILIES,
+    families: Sequence[str] | None = None,
     problems: int | None = None,
     table_shelf: int = 50,
     timeout: float = 5.0,
@@ -415,7 +429,8 @@ def _flatten(d: dict, prefix: str = ""):
 
 def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--families", nargs="*", default=list(MBM_FAMILIES), help="MotionBenchMaker families")
+    parser.add_argument("--families", nargs="*", default=None,
+                        help="MotionBenchMaker families (default: every family folder under the problem root)")
     parser.add_argument("--problems", type=int, default=None, help="first N problems per family (default: all)")
     parser.add_argument("--table-shelf", type=int, default=50, help="table-shelf start/goal pairs (0: none)")
     parser.add_argument("--timeout", type=float, default=5.0, help="mtc's planning time per problem [s]")

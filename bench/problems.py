@@ -2,10 +2,11 @@
 
 Three sources of problems, all as plain data (no planner, no collision checker here):
 
-* The MotionBenchMaker subset in ``shared/data/motion_bench_maker`` (families ``table_pick``,
-  ``box`` and ``bookshelf_small``, 50 problems each). Each problem is a MoveIt
-  ``PlanningScene`` YAML (collision objects made of box/cylinder/sphere primitives) and a
-  ``MotionPlanRequest`` YAML (start joint state, one joint-space goal).
+* MotionBenchMaker problems: every family folder under the problem root (the subset in
+  ``shared/data/motion_bench_maker`` has ``table_pick``, ``box`` and ``bookshelf_small``, 50
+  problems each; a full copy has more). Each problem is a MoveIt ``PlanningScene`` YAML
+  (collision objects made of box, cylinder, sphere and cone primitives and inline meshes)
+  and a ``MotionPlanRequest`` YAML (start joint state, one joint-space goal).
 * ``table_shelf_problems``: a hand-made world (floor, table, open shelf) around a Panda at the
   origin, with seeded start/goal pairs that a caller-supplied validity callable accepts.
 * ``generated_problems``: MotionBenchMaker families the subset does not ship (``cage``,
@@ -24,6 +25,7 @@ import site
 import sysconfig
 import xml.etree.ElementTree as ET
 from collections.abc import Callable, Sequence
+import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -32,38 +34,42 @@ import yaml
 
 ARM_JOINTS: tuple[str, ...] = tuple(f"panda_joint{i}" for i in range(1, 8))
 FINGER_JOINTS: tuple[str, ...] = ("panda_finger_joint1", "panda_finger_joint2")
-OBSTACLE_KINDS: tuple[str, ...] = ("box", "cylinder", "sphere")
+OBSTACLE_KINDS: tuple[str, ...] = ("box", "cylinder", "sphere", "cone", "mesh")
 
-# MotionBenchMaker family names as the README spells them -> folder names on disk.
-_FAMILY_DIRS: dict[str, str] = {
-    "bookshelf_small": "bookshelf_small_panda",
-    "box": "box_panda",
-    "table_pick": "table_pick_panda",
-}
+# A family is a folder of ``requestNNNN.yaml`` / ``sceneNNNN.yaml`` pairs; MotionBenchMaker
+# names its Panda folders ``<family>_panda``, and the family's name drops that suffix.
+_FOLDER_SUFFIX = "_panda"
 # Frames that coincide with the world in these problems (the Panda base is the world origin).
 _WORLD_FRAMES = ("", "world", "panda_link0")
-_DIMS_PER_KIND = {"box": 3, "cylinder": 2, "sphere": 1}
+_DIMS_PER_KIND = {"box": 3, "cylinder": 2, "sphere": 1, "cone": 2, "mesh": 0}
+# shape_msgs/SolidPrimitive type constants
+_PRIMITIVE_KINDS = {1: "box", 2: "sphere", 3: "cylinder", 4: "cone"}
 # libyaml's safe loader reads the 300 files about ten times faster than the pure-Python one.
 _YamlLoader = getattr(yaml, "CSafeLoader", yaml.SafeLoader)
 
 
 @dataclass(frozen=True, eq=False)
 class Obstacle:
-    """One primitive collision shape fixed in the world.
+    """One collision shape fixed in the world.
 
     Attributes:
         name: Unique name in its problem (the collision object id, ``id/k`` for the k-th
-            primitive of a multi-primitive object).
-        kind: ``"box"``, ``"cylinder"`` or ``"sphere"``.
-        dims: Box full extents ``(x, y, z)`` [m]; cylinder ``(height, radius)`` [m] along its
-            local z axis; sphere ``(radius,)`` [m].
-        pose: 4x4 homogeneous transform of the shape's centre in the world frame.
+            shape of a multi-shape object).
+        kind: ``"box"``, ``"cylinder"``, ``"sphere"``, ``"cone"`` or ``"mesh"``.
+        dims: Box full extents ``(x, y, z)`` [m]; cylinder and cone ``(height, radius)`` [m]
+            along the local z axis; sphere ``(radius,)`` [m]; mesh ``()``.
+        pose: 4x4 homogeneous transform of the shape's centre (a mesh's frame) in the world
+            frame.
+        vertices: A mesh's vertices in its frame, an (n, 3) array [m]; None for primitives.
+        triangles: A mesh's triangles, an (m, 3) array of vertex indices; None for primitives.
     """
 
     name: str
     kind: str
     dims: tuple[float, ...]
     pose: np.ndarray = field(repr=False)
+    vertices: np.ndarray | None = field(default=None, repr=False)
+    triangles: np.ndarray | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if self.kind not in OBSTACLE_KINDS:
@@ -83,6 +89,21 @@ class Obstacle:
             raise ValueError(f"obstacle '{self.name}': pose must be a finite 4x4 matrix")
         object.__setattr__(self, "dims", dims)
         object.__setattr__(self, "pose", pose)
+        if self.kind == "mesh":
+            vertices = np.asarray(self.vertices if self.vertices is not None else (), dtype=float)
+            triangles = np.asarray(self.triangles if self.triangles is not None else (), dtype=float)
+            if vertices.ndim != 2 or vertices.shape[1:] != (3,) or len(vertices) < 3 or not np.all(np.isfinite(vertices)):
+                raise ValueError(f"obstacle '{self.name}': a mesh needs at least 3 finite vertices (x, y, z)")
+            if (triangles.ndim != 2 or triangles.shape[1:] != (3,) or len(triangles) < 1
+                    or not np.all(triangles == np.round(triangles))
+                    or triangles.min() < 0 or triangles.max() >= len(vertices)):
+                raise ValueError(
+                    f"obstacle '{self.name}': a mesh needs triangles of 3 vertex indices in [0, {len(vertices) - 1}]"
+                )
+            object.__setattr__(self, "vertices", vertices)
+            object.__setattr__(self, "triangles", triangles.astype(int))
+        elif self.vertices is not None or self.triangles is not None:
+            raise ValueError(f"obstacle '{self.name}': only a mesh has vertices and triangles")
 
 
 @dataclass(frozen=True, eq=False)
@@ -90,7 +111,7 @@ class Problem:
     """A joint-space motion planning problem for the Panda arm.
 
     Attributes:
-        family: Problem family (``"box"``, ``"table_pick"``, ``"bookshelf_small"``,
+        family: Problem family (a MotionBenchMaker family such as ``"box"``, or
             ``"table_shelf"``).
         index: 1-based problem number inside its family.
         obstacles: World collision shapes.
@@ -99,6 +120,8 @@ class Problem:
         group: Planning group name of the request (``"panda_arm"``).
         allowed_collisions: Link pairs that the scene's allowed collision matrix allows to
             touch, each pair sorted, the list sorted; empty when the scene has no matrix.
+        unreadable: Why the problem's files could not be read (then it has no obstacles,
+            start or goal, and is reported, not planned); empty for a readable problem.
     """
 
     family: str
@@ -108,6 +131,7 @@ class Problem:
     goal: dict[str, float]
     group: str = "panda_arm"
     allowed_collisions: tuple[tuple[str, str], ...] = ()
+    unreadable: str = ""
 
     @property
     def name(self) -> str:
@@ -199,7 +223,8 @@ def panda_joint_limits(urdf: str | os.PathLike | None = None) -> dict[str, tuple
 
 
 def limit_violations(problem: Problem, limits: dict[str, tuple[float, float]] | None = None) -> list[str]:
-    """Arm joints of the start or goal state that lie outside the joint limits.
+    """Arm joints of the start or goal state that lie outside the joint limits (or, for a
+    problem whose files could not be read, why not).
 
     Such problems are to be reported, not planned. Finger values are not checked: the
     problems fix the fingers, and planners lock them at a valid opening.
@@ -212,6 +237,8 @@ def limit_violations(problem: Problem, limits: dict[str, tuple[float, float]] | 
         One line per violation, e.g. ``"goal panda_joint4=0.0166 outside [-3.0718, -0.0698]"``;
         empty when both states are inside the limits.
     """
+    if problem.unreadable:
+        return [problem.unreadable]
     limits = limits or panda_joint_limits()
     out = []
     for which, state in (("start", problem.start), ("goal", problem.goal)):
@@ -226,10 +253,21 @@ def limit_violations(problem: Problem, limits: dict[str, tuple[float, float]] | 
 # MotionBenchMaker loader
 
 
+def _family_folders(root: Path) -> dict[str, Path]:
+    """Family name -> folder, for every folder under ``root`` that holds requests."""
+    out = {}
+    if root.is_dir():
+        for folder in sorted(root.iterdir()):
+            if folder.is_dir() and any(folder.glob("request[0-9][0-9][0-9][0-9].yaml")):
+                name = folder.name
+                out[name[: -len(_FOLDER_SUFFIX)] if name.endswith(_FOLDER_SUFFIX) else name] = folder
+    return out
+
+
 def families(root: str | os.PathLike | None = None) -> list[str]:
-    """Names of the MotionBenchMaker families present under ``root``, sorted."""
-    root = Path(root) if root is not None else default_root()
-    return sorted(name for name, folder in _FAMILY_DIRS.items() if (root / folder).is_dir())
+    """Names of the MotionBenchMaker families present under ``root``, sorted: every folder
+    that holds ``requestNNNN.yaml`` files, named without the ``_panda`` suffix."""
+    return sorted(_family_folders(Path(root) if root is not None else default_root()))
 
 
 def quaternion_to_matrix(xyzw: Sequence[float]) -> np.ndarray:
@@ -250,23 +288,29 @@ def quaternion_to_matrix(xyzw: Sequence[float]) -> np.ndarray:
     )
 
 
+def _xyz(point, where: str) -> list[float]:
+    """``[x, y, z]`` of a point given as a flow list or as a ``{x, y, z}`` mapping."""
+    try:
+        values = [point[k] for k in ("x", "y", "z")] if isinstance(point, dict) else list(point)
+        values = [float(v) for v in values]
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ValueError(f"{where} must be [x, y, z] or {{x, y, z}}, got {point!r}") from exc
+    if len(values) != 3:
+        raise ValueError(f"{where} must have 3 entries, got {values}")
+    return values
+
+
 def _pose_matrix(pose: dict, where: str) -> np.ndarray:
     """4x4 matrix of a ``{position: [x,y,z], orientation: [x,y,z,w]}`` pose from the YAML."""
-    try:
-        position = [float(v) for v in pose["position"]]
-        orientation = pose["orientation"]
-    except (KeyError, TypeError) as exc:
-        raise ValueError(f"{where}: pose needs 'position' and 'orientation', got {pose!r}") from exc
+    if not (isinstance(pose, dict) and "position" in pose and "orientation" in pose):
+        raise ValueError(f"{where}: pose needs 'position' and 'orientation', got {pose!r}")
     # The files store geometry_msgs as flow lists; accept the mapping form too.
+    orientation = pose["orientation"]
     if isinstance(orientation, dict):
-        orientation = [orientation[k] for k in ("x", "y", "z", "w")]
-    if isinstance(pose["position"], dict):
-        position = [float(pose["position"][k]) for k in ("x", "y", "z")]
-    if len(position) != 3:
-        raise ValueError(f"{where}: position must have 3 entries, got {position}")
+        orientation = [orientation.get(k, 0.0) for k in ("x", "y", "z", "w")]
     T = np.eye(4)
     T[:3, :3] = quaternion_to_matrix(orientation)
-    T[:3, 3] = position
+    T[:3, 3] = _xyz(pose["position"], f"{where}: position")
     return T
 
 
@@ -281,24 +325,29 @@ def _obstacles_from_scene(scene: dict, where: str) -> list[Obstacle]:
                 f"{where}: object '{oid}' is given in frame '{frame}' (supported: "
                 f"{', '.join(repr(f) for f in _WORLD_FRAMES)})"
             )
-        if obj.get("meshes") or obj.get("planes"):
-            raise ValueError(f"{where}: object '{oid}' has meshes or planes (only primitives are supported)")
-        # As in moveit_msgs/CollisionObject: when the object has a pose, primitive poses are relative to it.
+        if obj.get("planes"):
+            raise ValueError(f"{where}: object '{oid}' has planes (supported: primitives and meshes)")
+        # As in moveit_msgs/CollisionObject: when the object has a pose, shape poses are relative to it.
         T_obj = _pose_matrix(obj["pose"], f"{where}: object '{oid}'") if obj.get("pose") else np.eye(4)
-        prims = obj.get("primitives") or []
-        poses = obj.get("primitive_poses") or []
-        if len(prims) != len(poses):
-            raise ValueError(
-                f"{where}: object '{oid}' has {len(prims)} primitives but {len(poses)} primitive_poses"
-            )
-        for k, (prim, pose) in enumerate(zip(prims, poses)):
-            name = oid if len(prims) == 1 else f"{oid}/{k}"
-            kind = prim.get("type")
-            if isinstance(kind, int):
-                # shape_msgs/SolidPrimitive constants: BOX=1, SPHERE=2, CYLINDER=3.
-                kind = {1: "box", 2: "sphere", 3: "cylinder"}.get(kind, str(kind))
+        shapes = []  # (kind, dims, vertices, triangles, pose)
+        for field_name, poses_name in (("primitives", "primitive_poses"), ("meshes", "mesh_poses")):
+            items = obj.get(field_name) or []
+            poses = obj.get(poses_name) or []
+            if len(items) != len(poses):
+                raise ValueError(f"{where}: object '{oid}' has {len(items)} {field_name} but {len(poses)} {poses_name}")
+            for item, pose in zip(items, poses):
+                if field_name == "primitives":
+                    kind = item.get("type")
+                    kind = _PRIMITIVE_KINDS.get(kind, str(kind)) if isinstance(kind, int) else str(kind)
+                    shapes.append((kind, tuple(item.get("dimensions") or ()), None, None, pose))
+                else:
+                    vertices = [_xyz(v, f"{where}: object '{oid}': mesh vertex") for v in item.get("vertices") or []]
+                    triangles = [t.get("vertex_indices") if isinstance(t, dict) else t for t in item.get("triangles") or []]
+                    shapes.append(("mesh", (), vertices, triangles, pose))
+        for k, (kind, dims, vertices, triangles, pose) in enumerate(shapes):
+            name = oid if len(shapes) == 1 else f"{oid}/{k}"
             T = T_obj @ _pose_matrix(pose, f"{where}: object '{name}'")
-            obstacles.append(Obstacle(name, str(kind), tuple(prim.get("dimensions") or ()), T))
+            obstacles.append(Obstacle(name, kind, dims, T, vertices, triangles))
     return obstacles
 
 
@@ -334,62 +383,73 @@ def _read_request(request: dict, where: str) -> tuple[dict[str, float], dict[str
     return start, goal, str(request.get("group_name") or "panda_arm")
 
 
-def load_problem(family: str, index: int, root: str | os.PathLike | None = None) -> Problem:
-    """Load one MotionBenchMaker problem (``sceneNNNN.yaml`` + ``requestNNNN.yaml``)."""
-    folder = _family_folder(family, root)
+def load_problem(family: str, index: int, root: str | os.PathLike | None = None,
+                 keep_unreadable: bool = False) -> Problem:
+    """Load one MotionBenchMaker problem (``sceneNNNN.yaml`` + ``requestNNNN.yaml``).
+
+    Args:
+        family: The family's name (or its folder's name).
+        index: The problem's number.
+        root: The ``motion_bench_maker`` folder; ``default_root()`` when None.
+        keep_unreadable: Return a problem whose content cannot be read or is not supported
+            (e.g. a plane, an unknown shape, a request without a joint goal) as one with
+            :attr:`Problem.unreadable` set, instead of raising ``ValueError``.
+    """
+    name, folder = _family_folder(family, root)
     scene_file = folder / f"scene{index:04d}.yaml"
     request_file = folder / f"request{index:04d}.yaml"
     for f in (scene_file, request_file):
         if not f.is_file():
-            raise FileNotFoundError(f"problem {family}/{index:04d}: missing {f}")
-    with open(scene_file) as fh:
-        scene = yaml.load(fh, Loader=_YamlLoader)
-    with open(request_file) as fh:
-        request = yaml.load(fh, Loader=_YamlLoader)
-    start, goal, group = _read_request(request, str(request_file))
-    return Problem(
-        family=_short_family(family),
-        index=index,
-        obstacles=tuple(_obstacles_from_scene(scene, str(scene_file))),
-        start=start,
-        goal=goal,
-        group=group,
-        allowed_collisions=_allowed_pairs(scene),
-    )
-
-
-def _short_family(name: str) -> str:
-    if name in _FAMILY_DIRS:
-        return name
-    for short, folder in _FAMILY_DIRS.items():
-        if name == folder:
-            return short
-    raise ValueError(
-        f"unknown MotionBenchMaker family '{name}' (families: {', '.join(sorted(_FAMILY_DIRS))})"
-    )
-
-
-def _family_folder(name: str, root: str | os.PathLike | None) -> Path:
-    root = Path(root) if root is not None else default_root()
-    folder = root / _FAMILY_DIRS[_short_family(name)]
-    if not folder.is_dir():
-        raise FileNotFoundError(
-            f"family '{name}': no folder {folder} (set MTC_MBM_DIR to the motion_bench_maker folder)"
+            raise FileNotFoundError(f"problem {name}/{index:04d}: missing {f}")
+    try:
+        with open(scene_file) as fh:
+            scene = yaml.load(fh, Loader=_YamlLoader)
+        with open(request_file) as fh:
+            request = yaml.load(fh, Loader=_YamlLoader)
+        if not isinstance(scene, dict) or not isinstance(request, dict):
+            raise ValueError(f"problem {name}/{index:04d}: a scene or request file is not a YAML mapping")
+        start, goal, group = _read_request(request, str(request_file))
+        return Problem(
+            family=name,
+            index=index,
+            obstacles=tuple(_obstacles_from_scene(scene, str(scene_file))),
+            start=start,
+            goal=goal,
+            group=group,
+            allowed_collisions=_allowed_pairs(scene),
         )
-    return folder
+    except (ValueError, KeyError, TypeError, AttributeError, yaml.YAMLError) as exc:
+        reason = str(exc) if isinstance(exc, ValueError) else f"problem {name}/{index:04d}: {type(exc).__name__}: {exc}"
+        if not keep_unreadable:
+            raise ValueError(reason) from exc
+        return Problem(family=name, index=index, obstacles=(), start={}, goal={}, unreadable=f"unreadable: {reason}")
 
 
-def load_family(name: str, root: str | os.PathLike | None = None) -> list[Problem]:
+def _family_folder(name: str, root: str | os.PathLike | None) -> tuple[str, Path]:
+    """(family name, folder) of a family given by its name or its folder's name."""
+    root = Path(root) if root is not None else default_root()
+    found = _family_folders(root)
+    for family, folder in found.items():
+        if name in (family, folder.name):
+            return family, folder
+    raise ValueError(
+        f"unknown MotionBenchMaker family '{name}' under {root} (families: {', '.join(found) or 'none'}; "
+        "set MTC_MBM_DIR to the motion_bench_maker folder)"
+    )
+
+
+def load_family(name: str, root: str | os.PathLike | None = None, keep_unreadable: bool = False) -> list[Problem]:
     """All problems of one family, by index.
 
     Args:
-        name: ``"box"``, ``"table_pick"`` or ``"bookshelf_small"`` (the folder names with the
-            ``_panda`` suffix are accepted too).
+        name: A family under ``root`` (:func:`families`), e.g. ``"box"``; the folder's name
+            (``"box_panda"``) is accepted too.
         root: The ``motion_bench_maker`` folder; ``default_root()`` when None.
+        keep_unreadable: As :func:`load_problem`.
     """
-    folder = _family_folder(name, root)
+    _, folder = _family_folder(name, root)
     indices = sorted(int(p.stem[len("request"):]) for p in folder.glob("request[0-9][0-9][0-9][0-9].yaml"))
-    return [load_problem(name, i, root) for i in indices]
+    return [load_problem(name, i, root, keep_unreadable) for i in indices]
 
 
 def load_all(root: str | os.PathLike | None = None) -> dict[str, list[Problem]]:
@@ -753,7 +813,7 @@ def generated_problems(
                         pose[:3, 3] += rng.uniform(-1.0, 1.0, 3) * v.shift
                         if v.yaw:
                             pose[:3, :3] = pose[:3, :3] @ _rotation(2, rng.uniform(-v.yaw, v.yaw))
-                obstacles.append(Obstacle(o.name, o.kind, o.dims, world @ pose))
+                obstacles.append(dataclasses.replace(o, pose=world @ pose))
             obstacles = tuple(obstacles)
             target = obstacles[names.index(fam.targets[rng.integers(len(fam.targets))])]
             if fam.start is None:

@@ -128,8 +128,97 @@ def test_obstacle_rejects_bad_dimensions():
     """A cylinder with a zero radius is refused with its name."""
     with pytest.raises(ValueError, match="obstacle 'c': dimensions must be positive"):
         P.Obstacle("c", "cylinder", (0.1, 0.0), np.eye(4))
-    with pytest.raises(ValueError, match="unknown kind 'cone'"):
+    with pytest.raises(ValueError, match="unknown kind 'plane'"):
+        P.Obstacle("c", "plane", (0.1,), np.eye(4))
+    with pytest.raises(ValueError, match="a cone needs 2 dimensions, got 1"):
         P.Obstacle("c", "cone", (0.1,), np.eye(4))
+    with pytest.raises(ValueError, match="mesh needs triangles of 3 vertex indices in \\[0, 2\\]"):
+        P.Obstacle("m", "mesh", (), np.eye(4), np.eye(3), [[0, 1, 3]])
+    with pytest.raises(ValueError, match="only a mesh has vertices"):
+        P.Obstacle("b", "box", (1, 1, 1), np.eye(4), np.eye(3), [[0, 1, 2]])
+
+
+# --- a full MotionBenchMaker copy: other families, cones, meshes, unreadable problems ----------
+
+# A tetrahedron 0.2 m across, as MoveIt writes an inline shape_msgs/Mesh.
+_MESH = {
+    "vertices": [[0.0, 0.0, 0.0], {"x": 0.2, "y": 0.0, "z": 0.0}, [0.0, 0.2, 0.0], [0.0, 0.0, 0.2]],
+    "triangles": [{"vertex_indices": [0, 1, 2]}, {"vertex_indices": [0, 1, 3]},
+                  {"vertex_indices": [0, 2, 3]}, {"vertex_indices": [1, 2, 3]}],
+}
+
+
+def _copy_family(src_family: str, dst: Path, folder: str, indices, edit=None) -> None:
+    """Copy problems of a bundled family into ``dst/folder``, editing each scene dict."""
+    import yaml
+
+    (dst / folder).mkdir(parents=True, exist_ok=True)
+    for i in indices:
+        src = P.default_root() / f"{src_family}_panda"
+        scene = yaml.safe_load((src / f"scene{i:04d}.yaml").read_text())
+        if edit:
+            edit(scene)
+        (dst / folder / f"scene{i:04d}.yaml").write_text(yaml.safe_dump(scene))
+        (dst / folder / f"request{i:04d}.yaml").write_text((src / f"request{i:04d}.yaml").read_text())
+
+
+def _add_shapes(scene):
+    scene["world"]["collision_objects"].append({
+        "id": "funnel", "header": {"frame_id": "world"},
+        "primitives": [{"type": 4, "dimensions": [0.3, 0.1]}],
+        "primitive_poses": [{"position": [1.5, 0.0, 0.5], "orientation": [0, 0, 0, 1]}],
+        "meshes": [_MESH],
+        "mesh_poses": [{"position": {"x": 1.5, "y": 0.5, "z": 0.0}, "orientation": {"x": 0, "y": 0, "z": 0, "w": 1}}],
+    })
+
+
+def test_every_family_folder_is_found_and_named_without_its_suffix(tmp_path, monkeypatch):
+    """A full copy has families the subset lacks (cage, kitchen, ...): every folder holding
+    requests is a family, named without ``_panda``; a folder without requests is none."""
+    _copy_family("box", tmp_path, "cage_panda", [3, 4])
+    _copy_family("box", tmp_path, "mine", [5])
+    (tmp_path / "notes").mkdir()
+    monkeypatch.setenv("MTC_MBM_DIR", str(tmp_path))
+    assert P.families() == ["cage", "mine"]
+    assert [p.name for p in P.load_family("cage")] == ["cage/0003", "cage/0004"]
+    assert [p.name for p in P.load_family("cage_panda")] == ["cage/0003", "cage/0004"]
+    assert [p.name for p in P.load_all()["mine"]] == ["mine/0005"]
+    with pytest.raises(ValueError, match="unknown MotionBenchMaker family 'box'.*families: cage, mine"):
+        P.load_family("box")
+
+
+def test_cones_and_inline_meshes_are_read(tmp_path):
+    """A cone primitive (type 4) and an inline mesh (vertices as lists or x/y/z mappings,
+    triangles as vertex_indices) become obstacles with the object's pose applied."""
+    _copy_family("box", tmp_path, "shapes_panda", [1], _add_shapes)
+    p = P.load_problem("shapes", 1, tmp_path)
+    cone, mesh = [o for o in p.obstacles if o.name.startswith("funnel")]
+    assert (cone.name, cone.kind, cone.dims) == ("funnel/0", "cone", (0.3, 0.1))
+    np.testing.assert_allclose(cone.pose[:3, 3], [1.5, 0.0, 0.5])
+    assert (mesh.name, mesh.kind, mesh.dims) == ("funnel/1", "mesh", ())
+    np.testing.assert_allclose(mesh.vertices[1], [0.2, 0.0, 0.0])
+    np.testing.assert_array_equal(mesh.triangles[3], [1, 2, 3])
+    np.testing.assert_allclose(mesh.pose[:3, 3], [1.5, 0.5, 0.0])
+
+
+def test_an_unreadable_problem_is_reported_not_fatal(tmp_path):
+    """A plane (mtc has none) or a request without a joint goal: load_problem raises naming
+    the file; with keep_unreadable the family still loads, and the problem carries the reason
+    that limit_violations reports (so the benchmarks list it as invalid)."""
+    def add_plane(scene):
+        scene["world"]["collision_objects"][0]["planes"] = [{"coef": [0, 0, 1, 0]}]
+
+    _copy_family("box", tmp_path, "odd_panda", [1], add_plane)
+    _copy_family("box", tmp_path, "odd_panda", [2])
+    with pytest.raises(ValueError, match="scene0001.yaml: object '.*' has planes"):
+        P.load_family("odd", tmp_path)
+    bad, good = P.load_family("odd", tmp_path, keep_unreadable=True)
+    assert bad.unreadable.startswith("unreadable: ") and "has planes" in bad.unreadable
+    assert P.limit_violations(bad) == [bad.unreadable]
+    assert not good.unreadable and P.limit_violations(good) == []
+    (tmp_path / "odd_panda" / "request0002.yaml").write_text("group_name: panda_arm\n")
+    with pytest.raises(ValueError, match="request0002.yaml: no joint-space goal"):
+        P.load_problem("odd", 2, tmp_path)
 
 
 def test_quaternion_order_is_xyzw():

@@ -161,3 +161,68 @@ def test_a_wedged_goal_gives_the_fallback_the_tips_position_jacobian(narrow_pass
     checks = req.checker.states_checked
     assert op._wedged_goal_projection(req, problem.start_arm()) is None
     assert req.checker.states_checked - checks == op.WEDGED_GOAL_FREE + 1  # stops at the third free move
+
+
+def _tetrahedron(name: str, center, size: float = 0.12):
+    """A mesh obstacle (a tetrahedron about ``size`` across) around ``center``."""
+    vertices = np.array([[0, 0, 0], [size, 0, 0], [0, size, 0], [0, 0, size]], dtype=float) - size / 4
+    T = np.eye(4)
+    T[:3, 3] = center
+    return motion_bench.Obstacle(name, "mesh", (), T, vertices, [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]])
+
+
+@pytest.mark.parametrize("kind", ["mesh", "cone"])
+def test_meshes_and_cones_collide_in_both_planners(kind):
+    """A mesh or a cone at the hand makes the ready state collide, for mtc's scene and the
+    baseline's model alike; moved away, it does not."""
+    model = motion_bench.mtc.robots.panda()
+    scene = motion_bench.build_scene(model, [])
+    hand = scene.current_state.get_global_link_transform("panda_hand")[:3, 3]
+    ready = motion_bench.problem_states(scene, motion_bench.load_family("box")[0])[0]
+    q7 = np.array([ready.joint_positions[j] for j in motion_bench.ARM_JOINTS])
+    for center, colliding in ((hand, True), (hand + [0.0, 0.0, 1.5], False)):
+        if kind == "mesh":
+            obstacle = _tetrahedron("t", center)
+        else:
+            T = np.eye(4)
+            T[:3, 3] = center
+            obstacle = motion_bench.Obstacle("c", "cone", (0.1, 0.05), T)
+        scene = motion_bench.build_scene(model, [obstacle])
+        assert scene.is_state_colliding(ready, "panda_arm") is colliding
+        if _have_pyroboplan():
+            from bench import baseline_pyroboplan as B
+
+            assert B.validity_checker([obstacle])(q7) is not colliding
+
+
+def test_default_families_are_every_folder_with_unreadable_problems_reported(tmp_path, monkeypatch):
+    """With MTC_MBM_DIR at a copy holding other families, the default run plans every family
+    there (here 'kitchen', a box problem with a mesh added beside the path), and lists a
+    problem it cannot read (a plane) as invalid instead of stopping."""
+    import yaml
+
+    from bench.problems import default_root
+
+    folder = tmp_path / "kitchen_panda"
+    folder.mkdir()
+    box_dir = default_root() / "box_panda"
+    for i, extra in ((1, "mesh"), (2, "plane")):
+        scene = yaml.safe_load((box_dir / "scene0001.yaml").read_text())
+        obj = {"id": "shelf_part", "header": {"frame_id": "world"}}
+        if extra == "mesh":
+            obj["meshes"] = [{"vertices": [[0, 0, 0], [0.1, 0, 0], [0, 0.1, 0], [0, 0, 0.1]],
+                              "triangles": [[0, 1, 2], [0, 1, 3], [0, 2, 3], [1, 2, 3]]}]
+            obj["mesh_poses"] = [{"position": [-0.6, -0.6, 0.9], "orientation": [0, 0, 0, 1]}]
+        else:
+            obj["planes"] = [{"coef": [0, 0, 1, 0]}]
+            obj["plane_poses"] = [{"position": [0, 0, 0], "orientation": [0, 0, 0, 1]}]
+        scene["world"]["collision_objects"].append(obj)
+        (folder / f"scene{i:04d}.yaml").write_text(yaml.safe_dump(scene))
+        (folder / f"request{i:04d}.yaml").write_text((box_dir / "request0001.yaml").read_text())
+    monkeypatch.setenv("MTC_MBM_DIR", str(tmp_path))
+    out = io.StringIO()
+    rows = motion_bench.run(table_shelf=0, baseline=False, out=out)
+    assert [r["family"] for r in rows] == ["kitchen"]
+    s = rows[0]["mtc"]
+    assert s["n"] == 2 and s["invalid"] == 1 and s["solved"] == 1 and s["dense_free"] == 1
+    assert "| kitchen | mtc | 2 | 1 | 1 | 100% |" in out.getvalue()
