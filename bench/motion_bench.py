@@ -393,6 +393,11 @@ def print_table(rows: Sequence[dict], timeout: float, baseline_timeout: float, s
                 f"| {s['length']:.2f} | {s['checks_per_s']:,.0f} | {sp} | {dense} |",
                 file=out,
             )
+    # what the counts hide: each problem mtc did not plan (invalid) or did not solve, and why
+    notes = [f"- {r['problem']}: {r['status']}" for row in rows for r in row.get("mtc_results", ())
+             if not r["success"]]
+    if notes:
+        print("\nmtc did not plan or did not solve:", *notes, sep="\n", file=out)
     out.flush()
 
 

@@ -226,3 +226,5 @@ def test_default_families_are_every_folder_with_unreadable_problems_reported(tmp
     s = rows[0]["mtc"]
     assert s["n"] == 2 and s["invalid"] == 1 and s["solved"] == 1 and s["dense_free"] == 1
     assert "| kitchen | mtc | 2 | 1 | 1 | 100% |" in out.getvalue()
+    assert "mtc did not plan or did not solve:\n- kitchen/0002: invalid: unreadable: " in out.getvalue()
+    assert "has planes" in out.getvalue().splitlines()[-1]
