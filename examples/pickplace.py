@@ -28,17 +28,17 @@ eef = "hand"
 object_name = "grasp_object"
 
 
-def add_object() -> PoseStamped:
-    """Clear the current scene and add the box to grasp; returns its pose."""
+def add_object(position=(0.30702, 0.0, 0.285), yaw: float = 0.0) -> PoseStamped:
+    """Clear the current scene and add the box to grasp, turned by ``yaw`` about world z;
+    returns its pose."""
     psi = PlanningSceneInterface(synchronous=True)
     psi.remove_world_object()
 
     objectPose = PoseStamped()
     objectPose.header.frame_id = "world"
-    objectPose.pose.orientation.w = 1.0
-    objectPose.pose.position.x = 0.30702
-    objectPose.pose.position.y = 0.0
-    objectPose.pose.position.z = 0.285
+    objectPose.pose.orientation.z = math.sin(yaw / 2)
+    objectPose.pose.orientation.w = math.cos(yaw / 2)
+    objectPose.pose.position.x, objectPose.pose.position.y, objectPose.pose.position.z = position
     psi.add_box(object_name, objectPose, size=[0.1, 0.05, 0.03])
     return objectPose
 
@@ -59,9 +59,14 @@ def upright() -> Constraints:
     return constraints
 
 
-def make_task() -> core.Task:
-    """The task: current -> connect -> Pick -> connect (upright) -> Place."""
-    objectPose = add_object()
+def make_task(object_position=(0.30702, 0.0, 0.285), object_yaw: float = 0.0,
+              place_position=(-0.2, -0.6, 0.0), seed: int = 0) -> core.Task:
+    """The task: current -> connect -> Pick -> connect (upright) -> Place.
+
+    The defaults are the tutorial's; ``examples/dataset.py`` varies the box's position and
+    turn, where it is placed, and the planner's ``seed``.
+    """
+    objectPose = add_object(object_position, object_yaw)
 
     task = core.Task()
     task.name = "pick + place"
@@ -70,6 +75,7 @@ def make_task() -> core.Task:
     # a planner that connects the current state to the grasp approach pose
     pipeline = core.PipelinePlanner()
     pipeline.planner = "RRTConnectkConfigDefault"
+    pipeline.properties["seed"] = seed
     planners = [(arm, pipeline)]
     task.add(stages.Connect("connect", planners))
 
@@ -110,9 +116,7 @@ def make_task() -> core.Task:
 
     # where the object should be after placing
     placePose = objectPose
-    placePose.pose.position.x = -0.2
-    placePose.pose.position.y = -0.6
-    placePose.pose.position.z = 0.0
+    placePose.pose.position.x, placePose.pose.position.y, placePose.pose.position.z = place_position
 
     place_generator = stages.GeneratePlacePose("Generate Place Pose")
     place_generator.setMonitoredStage(task["Pick"])

@@ -9,6 +9,7 @@ as scripts (``__main__``) with ``time.sleep`` made instant.
 from __future__ import annotations
 
 import ast
+import json
 import runpy
 import sys
 from pathlib import Path
@@ -304,6 +305,54 @@ def test_pickplace_moves_the_box_to_the_place_pose():
         assert scene.attached_object_names == ["grasp_object"]
         trajectory = solution.trajectory
         assert all(upright.satisfied(trajectory[i], scene) for i in range(len(trajectory)))
+
+
+def test_dataset_is_the_same_for_any_number_of_workers(tmp_path):
+    """dataset.py: samples planned in two processes give the files and records that one
+    process gives; each solved sample's files hold its best solution, the box starts where its
+    record says and ends at its place position."""
+    from mtc.core.export import solution_from_json
+
+    import dataset  # as a module: the worker processes unpickle its functions by name
+
+    namespace = vars(dataset)
+    one = namespace["main"](["--samples", "3", "--workers", "1", "--out", str(tmp_path / "one")])
+    two = namespace["make_dataset"](tmp_path / "two", 3, workers=2)
+    assert [r["index"] for r in one] == [0, 1, 2] and all(r["solved"] for r in one)
+    drop_time = [{k: v for k, v in r.items() if k != "plan_s"} for r in one]
+    assert drop_time == [{k: v for k, v in r.items() if k != "plan_s"} for r in two]
+    assert len({tuple(r["object_position"]) for r in one}) == 3  # the samples differ
+    lines = (tmp_path / "two" / "index.jsonl").read_text().splitlines()
+    assert [json.loads(line)["index"] for line in lines] == [0, 1, 2]
+    for r in one:
+        stem = f"sample_{r['index']:05d}"
+        a, b = np.load(tmp_path / "one" / f"{stem}.npz"), np.load(tmp_path / "two" / f"{stem}.npz")
+        assert all(np.array_equal(a[k], b[k]) for k in ("times", "positions", "velocities", "joint_names"))
+        msg = solution_from_json(tmp_path / "one" / f"{stem}.json")
+        assert msg == solution_from_json(tmp_path / "two" / f"{stem}.json")
+        assert len(a["times"]) == len(a["positions"]) > 1 and np.all(np.diff(a["times"]) > 0)
+    # the box of sample 0 starts where its record says and is placed where it says
+    sample = one[0]
+    task = namespace["pickplace"].make_task(sample["object_position"], sample["object_yaw"],
+                                            sample["place_position"], sample["seed"])
+    assert task.plan(1)
+    solution = task.solutions[0]
+    assert solution.cost == pytest.approx(sample["cost"])
+    assert solution.start.scene.get_frame_transform("grasp_object")[:3, 3] == pytest.approx(sample["object_position"])
+    assert end_scene(solution).get_frame_transform("grasp_object")[:3, 3] == pytest.approx(sample["place_position"], abs=1e-6)
+
+
+def test_dataset_records_a_failed_sample_with_its_reason(tmp_path):
+    """A box out of reach: the sample is not solved, writes no files, and its record says
+    which stage failed."""
+    namespace = runpy.run_path(str(EXAMPLES / "dataset.py"), run_name="example_dataset")
+    sample = dict(namespace["draw_sample"](0, 0), object_position=[1.5, 0.0, 0.285])
+    record = namespace["plan_sample"]((sample, str(tmp_path), 1, 60.0))
+    assert not record["solved"] and record["cost"] is None and record["solutions"] == 0
+    assert record["failure"].startswith("Failing stage(s):\ncompute ik (0/4): "), record["failure"]
+    assert not list(tmp_path.iterdir())
+    with pytest.raises(ValueError, match="need samples >= 0, workers >= 1"):
+        namespace["make_dataset"](tmp_path, 2, workers=0)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -1,0 +1,128 @@
+"""Make a dataset of pick-and-place plans, in parallel processes.
+
+Each sample is the task of ``examples/pickplace.py`` with the box at a random place in front
+of the robot, turned about the vertical, to be placed at a random spot on the robot's right,
+and planned with its own planner seed. The samples are spread over ``--workers`` processes;
+the dataset depends on ``--seed`` only, not on the number of workers or their speed (each
+sample draws from its own random stream, and no plan is cut short by a clock unless it runs
+into ``--timeout``).
+
+In ``--out`` it writes, per sample ``NNNNN``:
+
+* ``sample_NNNNN.json``: the best solution's message (``solution.toJSON``; read it back with
+  ``mtc.core.export.solution_from_json``);
+* ``sample_NNNNN.npz``: that solution as arrays (``solution.toArrays()``: ``times``,
+  ``positions``, ``velocities``, ``joint_names``);
+
+and ``index.jsonl``: one line per sample, in sample order, with the box's pose, the place
+position, the seed, whether it was solved, the cost, the planning time, and for a failed
+sample why (``task.explainFailure()``). A failed sample is data too: it has no files but its
+line says what failed.
+
+Run: ``python examples/dataset.py --samples 100 --workers 2 --out pick_place_dataset``
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import io
+import json
+import math
+import os
+import sys
+import time
+from concurrent.futures import ProcessPoolExecutor
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # examples/ (for the pickplace task)
+
+import pickplace  # noqa: E402
+
+#: Where the box is drawn from: x and y [m] in front of the robot, at pickplace's height.
+OBJECT_X, OBJECT_Y, OBJECT_Z = (0.30, 0.55), (-0.30, 0.30), 0.285
+#: Where it is placed: at a distance [m] from the base, at an angle [rad] on the robot's right.
+PLACE_RADIUS, PLACE_ANGLE, PLACE_Z = (0.45, 0.65), (-2.0, -1.1), (0.0, 0.2)
+
+
+def draw_sample(seed: int, index: int) -> dict:
+    """The box pose, place position and planner seed of sample ``index`` (its own stream)."""
+    rng = np.random.default_rng([seed, index])
+    radius, angle = rng.uniform(*PLACE_RADIUS), rng.uniform(*PLACE_ANGLE)
+    return {
+        "index": index,
+        "object_position": [float(rng.uniform(*OBJECT_X)), float(rng.uniform(*OBJECT_Y)), OBJECT_Z],
+        "object_yaw": float(rng.uniform(-math.pi / 2, math.pi / 2)),
+        "place_position": [float(radius * math.cos(angle)), float(radius * math.sin(angle)),
+                           float(rng.uniform(*PLACE_Z))],
+        "seed": int(rng.integers(2**31)),
+    }
+
+
+def plan_sample(job: tuple[dict, str, int, float]) -> dict:
+    """Plan one sample and write its files; returns its ``index.jsonl`` record."""
+    sample, out, max_solutions, timeout = job
+    task = pickplace.make_task(sample["object_position"], sample["object_yaw"], sample["place_position"],
+                               sample["seed"])
+    task.timeout = timeout
+    start = time.perf_counter()
+    with contextlib.redirect_stdout(io.StringIO()):  # (a failed plan prints its tree, as MTC's)
+        result = task.plan(max_solutions)
+    record = dict(sample, solved=bool(result), plan_s=round(time.perf_counter() - start, 4))
+    if result:
+        best = task.solutions[0]
+        stem = Path(out) / f"sample_{sample['index']:05d}"
+        best.toJSON(f"{stem}.json")
+        arrays = best.toArrays()
+        np.savez_compressed(f"{stem}.npz", times=arrays.times, positions=arrays.positions,
+                            velocities=arrays.velocities, joint_names=np.array(arrays.joint_names))
+        record.update(cost=best.cost, solutions=len(task.solutions))
+    else:
+        why = io.StringIO()
+        task.explainFailure(why)
+        record.update(cost=None, solutions=0, failure=why.getvalue().strip() or str(result))
+    return record
+
+
+def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: int = 0,
+                 max_solutions: int = 1, timeout: float = 60.0) -> list[dict]:
+    """Plan ``samples`` samples over ``workers`` processes into ``out``; returns the records
+    (also written to ``out/index.jsonl``, in sample order)."""
+    if samples < 0 or workers < 1 or max_solutions < 1 or not timeout > 0:
+        raise ValueError("need samples >= 0, workers >= 1, max_solutions >= 1 and a positive timeout, got "
+                         f"samples={samples}, workers={workers}, max_solutions={max_solutions}, timeout={timeout}")
+    Path(out).mkdir(parents=True, exist_ok=True)
+    jobs = [(draw_sample(seed, i), str(out), max_solutions, timeout) for i in range(samples)]
+    if workers == 1:
+        records = [plan_sample(job) for job in jobs]
+    else:
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            records = list(pool.map(plan_sample, jobs))  # (map keeps the sample order)
+    with open(Path(out) / "index.jsonl", "w") as f:
+        for record in records:
+            f.write(json.dumps(record) + "\n")
+    return records
+
+
+def main(argv: list[str] | None = None) -> list[dict]:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--samples", type=int, default=20, help="number of samples (default 20)")
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: one per core)")
+    parser.add_argument("--out", default="pick_place_dataset", help="output folder")
+    parser.add_argument("--seed", type=int, default=0, help="the dataset's seed")
+    parser.add_argument("--solutions", type=int, default=1,
+                        help="solutions to plan per sample; the best is saved (default 1)")
+    parser.add_argument("--timeout", type=float, default=60.0, help="planning time limit per sample [s]")
+    args = parser.parse_args(argv)
+    start = time.perf_counter()
+    records = make_dataset(args.out, args.samples, args.workers, args.seed, args.solutions, args.timeout)
+    solved = sum(r["solved"] for r in records)
+    print(f"{solved} of {len(records)} samples solved in {time.perf_counter() - start:.1f} s "
+          f"with {args.workers} worker(s); files and index.jsonl in {args.out}")
+    return records
+
+
+if __name__ == "__main__":
+    main()
