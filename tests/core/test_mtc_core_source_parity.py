@@ -366,6 +366,22 @@ def test_binding_keywords_comment_and_pos():
         c.remove()
     with pytest.raises(TypeError, match="pos must be a child position"):
         c.remove(pos="x")
+    t = make_task()
+    t.add(a)
+    assert t.remove(pos=0) is a and len(t) == 0
+
+
+def test_map_set_current_takes_what_set_takes():
+    """PropertyMap.setCurrent() is the map's (C++-side) setter, as set(): it takes any value
+    for an untyped property (a MoveTo goal dict, a callable), only None is refused."""
+    pm = core.PropertyMap()
+    pm.declare("goal")
+    pm.setCurrent("goal", {"panda_joint1": 0.5})
+    assert pm["goal"] == {"panda_joint1": 0.5}
+    pm.reset()
+    assert pm["goal"] is None
+    with pytest.raises(TypeError, match="setCurrent\\(\\) of property 'goal'"):
+        pm.setCurrent("goal", None)
 
 
 # --- introspection ids -------------------------------------------------------------------------

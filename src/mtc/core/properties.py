@@ -580,8 +580,9 @@ class PropertyMap:
     def setCurrent(self, name: str, value) -> None:
         """Set a temporary value (dropped by :meth:`reset`)."""
         p = self.property(name)
+        _not_none(value, f"setCurrent() of property '{name}'")
         try:
-            p.setCurrentValue(value)
+            p._setCurrent(value)  # (as set(): the map's own setters take any value)
         except PropertyError as e:
             e.setName(name)
             raise

@@ -175,9 +175,9 @@ class Task(WrapperBase):
     def __iter__(self):
         return iter(self._children[0])
 
-    def remove(self, child):
-        """Remove a top-level stage."""
-        return self._children[0].remove(child)
+    def remove(self, child=None, *, pos=None):
+        """Remove a top-level stage, given by position or object (or ``pos=``)."""
+        return self._children[0].remove(child, pos=pos)
 
     @property
     def solutions(self) -> Solutions:
