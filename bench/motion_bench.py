@@ -43,6 +43,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import dataclasses
 import logging
 import statistics
 import sys
@@ -304,14 +305,18 @@ def suites(families: Sequence[str] | None, problems: int | None, table_shelf: in
     out = []
     for fam in mbm_families() if families is None else families:
         ps = load_family(fam, keep_unreadable=True)  # an unreadable problem is reported, not planned
-        out.append((fam, ps[:problems] if problems else ps))
+        out.append((ps[0].family if ps else fam, ps[:problems] if problems else ps))
     if table_shelf:
         is_valid = mtc_validity(model, table_shelf_world())
         out.append(("table_shelf", table_shelf_problems(table_shelf, seed, is_valid=is_valid)))
     if generated:
         is_valid, solve_ik = mtc_goal_tools(model)
+        loaded = {name for name, _ in out}
         for fam in generated_families:
-            out.append((fam, generated_problems(fam, generated, seed, is_valid=is_valid, solve_ik=solve_ik)))
+            ps = generated_problems(fam, generated, seed, is_valid=is_valid, solve_ik=solve_ik)
+            if fam in loaded:  # a full MotionBenchMaker copy has this family: tell them apart
+                ps = [dataclasses.replace(p, family=f"{fam}_generated") for p in ps]
+            out.append((ps[0].family if ps else fam, ps))
     return out
 
 

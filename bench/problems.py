@@ -20,12 +20,12 @@ All poses are in the world frame, which is ``panda_link0`` (the Panda base sits 
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import site
 import sysconfig
 import xml.etree.ElementTree as ET
 from collections.abc import Callable, Sequence
-import dataclasses
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -260,7 +260,8 @@ def _family_folders(root: Path) -> dict[str, Path]:
         for folder in sorted(root.iterdir()):
             if folder.is_dir() and any(folder.glob("request[0-9][0-9][0-9][0-9].yaml")):
                 name = folder.name
-                out[name[: -len(_FOLDER_SUFFIX)] if name.endswith(_FOLDER_SUFFIX) else name] = folder
+                short = name[: -len(_FOLDER_SUFFIX)] if name.endswith(_FOLDER_SUFFIX) else name
+                out[short if short not in out else name] = folder  # (box/ and box_panda/: both)
     return out
 
 
@@ -271,10 +272,13 @@ def families(root: str | os.PathLike | None = None) -> list[str]:
 
 
 def quaternion_to_matrix(xyzw: Sequence[float]) -> np.ndarray:
-    """Rotation matrix of a quaternion given as ``[x, y, z, w]`` (ROS order); normalises it."""
+    """Rotation matrix of a quaternion given as ``[x, y, z, w]`` (ROS order); normalises it.
+    An all-zero quaternion (an unset ROS orientation) is the identity, as MoveIt reads it."""
     q = np.asarray(xyzw, dtype=float)
     if q.shape != (4,):
         raise ValueError(f"quaternion must have 4 entries [x, y, z, w], got {list(xyzw)}")
+    if not q.any():
+        return np.eye(3)
     norm = np.linalg.norm(q)
     if not np.isfinite(norm) or norm < 1e-9:
         raise ValueError(f"quaternion {list(xyzw)} has no valid norm")
@@ -309,7 +313,10 @@ def _pose_matrix(pose: dict, where: str) -> np.ndarray:
     if isinstance(orientation, dict):
         orientation = [orientation.get(k, 0.0) for k in ("x", "y", "z", "w")]
     T = np.eye(4)
-    T[:3, :3] = quaternion_to_matrix(orientation)
+    try:
+        T[:3, :3] = quaternion_to_matrix(orientation)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"{where}: orientation: {exc}") from exc
     T[:3, 3] = _xyz(pose["position"], f"{where}: position")
     return T
 
@@ -398,10 +405,10 @@ def load_problem(family: str, index: int, root: str | os.PathLike | None = None,
     name, folder = _family_folder(family, root)
     scene_file = folder / f"scene{index:04d}.yaml"
     request_file = folder / f"request{index:04d}.yaml"
-    for f in (scene_file, request_file):
-        if not f.is_file():
-            raise FileNotFoundError(f"problem {name}/{index:04d}: missing {f}")
     try:
+        for f in (scene_file, request_file):
+            if not f.is_file():
+                raise FileNotFoundError(f"problem {name}/{index:04d}: missing {f}")
         with open(scene_file) as fh:
             scene = yaml.load(fh, Loader=_YamlLoader)
         with open(request_file) as fh:
@@ -418,9 +425,12 @@ def load_problem(family: str, index: int, root: str | os.PathLike | None = None,
             group=group,
             allowed_collisions=_allowed_pairs(scene),
         )
-    except (ValueError, KeyError, TypeError, AttributeError, yaml.YAMLError) as exc:
-        reason = str(exc) if isinstance(exc, ValueError) else f"problem {name}/{index:04d}: {type(exc).__name__}: {exc}"
+    except (OSError, ValueError, KeyError, IndexError, TypeError, AttributeError, yaml.YAMLError) as exc:
+        plain = isinstance(exc, (FileNotFoundError, ValueError))
+        reason = str(exc) if plain else f"problem {name}/{index:04d}: {type(exc).__name__}: {exc}"
         if not keep_unreadable:
+            if plain:
+                raise
             raise ValueError(reason) from exc
         return Problem(family=name, index=index, obstacles=(), start={}, goal={}, unreadable=f"unreadable: {reason}")
 

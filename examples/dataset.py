@@ -5,7 +5,7 @@ of the robot, turned about the vertical, to be placed at a random spot on the ro
 and planned with its own planner seed. The samples are spread over ``--workers`` processes;
 the dataset depends on ``--seed`` only, not on the number of workers or their speed (each
 sample draws from its own random stream, and no plan is cut short by a clock unless it runs
-into ``--timeout``).
+into ``--timeout``); only the recorded planning times vary.
 
 In ``--out`` it writes, per sample ``NNNNN``:
 
@@ -19,7 +19,8 @@ position, the seed, whether it was solved, the cost, the planning time, and for 
 sample why (``task.explainFailure()``). A failed sample is data too: it has no files but its
 line says what failed.
 
-Run: ``python examples/dataset.py --samples 100 --workers 2 --out pick_place_dataset``
+Run: ``python examples/dataset.py --samples 100 --workers 2 --out pick_place_dataset`` (a
+folder that holds no dataset yet).
 """
 
 from __future__ import annotations
@@ -90,9 +91,12 @@ def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: i
                  max_solutions: int = 1, timeout: float = 60.0) -> list[dict]:
     """Plan ``samples`` samples over ``workers`` processes into ``out``; returns the records
     (also written to ``out/index.jsonl``, in sample order)."""
-    if samples < 0 or workers < 1 or max_solutions < 1 or not timeout > 0:
-        raise ValueError("need samples >= 0, workers >= 1, max_solutions >= 1 and a positive timeout, got "
-                         f"samples={samples}, workers={workers}, max_solutions={max_solutions}, timeout={timeout}")
+    if samples < 0 or workers < 1 or seed < 0 or max_solutions < 1 or not timeout > 0:
+        raise ValueError("need samples >= 0, workers >= 1, seed >= 0, max_solutions >= 1 and a positive timeout, got "
+                         f"samples={samples}, workers={workers}, seed={seed}, max_solutions={max_solutions}, "
+                         f"timeout={timeout}")
+    if (Path(out) / "index.jsonl").exists():
+        raise FileExistsError(f"{out} holds a dataset already (index.jsonl): choose another folder or remove it")
     Path(out).mkdir(parents=True, exist_ok=True)
     jobs = [(draw_sample(seed, i), str(out), max_solutions, timeout) for i in range(samples)]
     if workers == 1:

@@ -165,6 +165,8 @@ def _copy_family(src_family: str, dst: Path, folder: str, indices, edit=None) ->
 def _add_shapes(scene):
     scene["world"]["collision_objects"].append({
         "id": "funnel", "header": {"frame_id": "world"},
+        # the object's pose: a quarter turn about z at (1, 0, 0); shape poses are relative to it
+        "pose": {"position": [1.0, 0.0, 0.0], "orientation": [0, 0, 0.7071067811865476, 0.7071067811865476]},
         "primitives": [{"type": 4, "dimensions": [0.3, 0.1]}],
         "primitive_poses": [{"position": [1.5, 0.0, 0.5], "orientation": [0, 0, 0, 1]}],
         "meshes": [_MESH],
@@ -194,11 +196,12 @@ def test_cones_and_inline_meshes_are_read(tmp_path):
     p = P.load_problem("shapes", 1, tmp_path)
     cone, mesh = [o for o in p.obstacles if o.name.startswith("funnel")]
     assert (cone.name, cone.kind, cone.dims) == ("funnel/0", "cone", (0.3, 0.1))
-    np.testing.assert_allclose(cone.pose[:3, 3], [1.5, 0.0, 0.5])
+    np.testing.assert_allclose(cone.pose[:3, 3], [1.0, 1.5, 0.5], atol=1e-12)  # (1,0,0) + Rz(90°)(1.5,0,0.5)
     assert (mesh.name, mesh.kind, mesh.dims) == ("funnel/1", "mesh", ())
     np.testing.assert_allclose(mesh.vertices[1], [0.2, 0.0, 0.0])
     np.testing.assert_array_equal(mesh.triangles[3], [1, 2, 3])
-    np.testing.assert_allclose(mesh.pose[:3, 3], [1.5, 0.5, 0.0])
+    np.testing.assert_allclose(mesh.pose[:3, 3], [0.5, 1.5, 0.0], atol=1e-12)
+    np.testing.assert_allclose(mesh.pose[:3, 0], [0.0, 1.0, 0.0], atol=1e-12)
 
 
 def test_an_unreadable_problem_is_reported_not_fatal(tmp_path):
@@ -219,6 +222,52 @@ def test_an_unreadable_problem_is_reported_not_fatal(tmp_path):
     (tmp_path / "odd_panda" / "request0002.yaml").write_text("group_name: panda_arm\n")
     with pytest.raises(ValueError, match="request0002.yaml: no joint-space goal"):
         P.load_problem("odd", 2, tmp_path)
+
+
+def test_other_unreadable_content_is_reported_too(tmp_path):
+    """A collision matrix with more rows than names, a scene file that is missing, a bad
+    orientation: each is the problem's reason with keep_unreadable, and an error without."""
+    def long_acm(scene):
+        acm = scene["allowed_collision_matrix"]
+        acm["entry_values"].append(acm["entry_values"][0])
+
+    def bad_orientation(scene):
+        scene["world"]["collision_objects"][0]["primitive_poses"][0]["orientation"] = [0, 0, float("nan"), 1]
+
+    _copy_family("box", tmp_path, "odd_panda", [1], long_acm)
+    _copy_family("box", tmp_path, "odd_panda", [2], bad_orientation)
+    _copy_family("box", tmp_path, "odd_panda", [3])
+    (tmp_path / "odd_panda" / "scene0003.yaml").unlink()
+    acm, orientation, missing = P.load_family("odd", tmp_path, keep_unreadable=True)
+    assert acm.unreadable.startswith("unreadable: problem odd/0001: IndexError")
+    assert "scene0002.yaml: object" in orientation.unreadable and "orientation: quaternion" in orientation.unreadable
+    assert missing.unreadable.startswith("unreadable: problem odd/0003: missing ") and "scene0003.yaml" in missing.unreadable
+    with pytest.raises(ValueError, match="problem odd/0001: IndexError"):
+        P.load_problem("odd", 1, tmp_path)
+    with pytest.raises(FileNotFoundError, match="scene0003.yaml"):
+        P.load_problem("odd", 3, tmp_path)
+
+
+def test_an_unset_orientation_is_the_identity(tmp_path):
+    """An all-zero quaternion (ROS's default Quaternion) is read as the identity, as MoveIt
+    and mtc's messages read it."""
+    def unset(scene):
+        obj = scene["world"]["collision_objects"][0]
+        obj["pose"] = {"position": [0.0, 0.0, 0.0], "orientation": [0, 0, 0, 0]}
+        obj["primitive_poses"][0]["orientation"] = {"x": 0, "y": 0, "z": 0}  # (w missing: 0)
+
+    _copy_family("box", tmp_path, "odd_panda", [1], unset)
+    first = P.load_problem("odd", 1, tmp_path).obstacles[0]
+    np.testing.assert_array_equal(first.pose[:3, :3], np.eye(3))
+    np.testing.assert_array_equal(P.quaternion_to_matrix([0, 0, 0, 0]), np.eye(3))
+
+
+def test_a_family_folder_beside_its_panda_twin_is_kept(tmp_path):
+    """'box/' and 'box_panda/' under one root are two families, 'box' and 'box_panda'."""
+    _copy_family("box", tmp_path, "box", [1])
+    _copy_family("box", tmp_path, "box_panda", [2])
+    assert P.families(tmp_path) == ["box", "box_panda"]
+    assert [p.name for p in P.load_family("box_panda", tmp_path)] == ["box_panda/0002"]
 
 
 def test_quaternion_order_is_xyzw():

@@ -353,6 +353,11 @@ def test_dataset_records_a_failed_sample_with_its_reason(tmp_path):
     assert not list(tmp_path.iterdir())
     with pytest.raises(ValueError, match="need samples >= 0, workers >= 1"):
         namespace["make_dataset"](tmp_path, 2, workers=0)
+    with pytest.raises(ValueError, match="seed=-1"):
+        namespace["make_dataset"](tmp_path, 2, seed=-1)
+    namespace["make_dataset"](tmp_path / "empty", 0)
+    with pytest.raises(FileExistsError, match="holds a dataset already"):
+        namespace["make_dataset"](tmp_path / "empty", 0)
 
 
 # ---------------------------------------------------------------------------------------------

@@ -228,3 +228,18 @@ def test_default_families_are_every_folder_with_unreadable_problems_reported(tmp
     assert "| kitchen | mtc | 2 | 1 | 1 | 100% |" in out.getvalue()
     assert "mtc did not plan or did not solve:\n- kitchen/0002: invalid: unreadable: " in out.getvalue()
     assert "has planes" in out.getvalue().splitlines()[-1]
+
+
+def test_generated_families_are_told_apart_from_shipped_ones(tmp_path, monkeypatch):
+    """A full MotionBenchMaker copy ships 'cage'; the generated 'cage' is then 'cage_generated'
+    (its rows and problem names), so the table and the list of failures are unambiguous."""
+    from bench.problems import default_root
+
+    (tmp_path / "cage_panda").mkdir()
+    for name in ("scene0001.yaml", "request0001.yaml"):
+        (tmp_path / "cage_panda" / name).write_text((default_root() / "box_panda" / name).read_text())
+    monkeypatch.setenv("MTC_MBM_DIR", str(tmp_path))
+    model = motion_bench.mtc.robots.panda()
+    suites = motion_bench.suites(None, None, 0, 0, model, generated=1, generated_families=["cage", "bookshelf_thin"])
+    assert [(name, [p.name for p in ps]) for name, ps in suites] == [
+        ("cage", ["cage/0001"]), ("cage_generated", ["cage_generated/0001"]), ("bookshelf_thin", ["bookshelf_thin/0001"])]
