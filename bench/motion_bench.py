@@ -16,9 +16,10 @@ Both planners get the same problems in the same run:
   to the can on it), generated from MotionBenchMaker's scene configs with goals (and the
   under-the-table start) from mtc's IK.
 
-Problems whose start or goal lies outside example-robot-data's joint limits, or whose files
-hold what the loader cannot read (a plane, a request without a joint goal), are reported
-(column "invalid"), not planned.
+Problems whose start or goal lies outside example-robot-data's joint limits or collides (with
+its meshes, as the scene is built), or whose files hold what the loader cannot read (a plane, a
+request without a joint goal), are reported (column "invalid", and listed with the reason
+under the table), not planned by either planner.
 
 Per family and planner: success rate, median and 90th-percentile planning time of the
 solved problems (mtc: the whole request, i.e. start/goal checks, search, shortcutting, the
@@ -199,6 +200,13 @@ def run_mtc(model, problem: Problem, timeout: float, seed: int, pipeline: OMPLPi
         return out
     scene = build_scene(model, problem.obstacles, problem.allowed_collisions, finger_opening(problem))
     start, goal = problem_states(scene, problem)
+    # a start or goal that collides (with this Panda's meshes) makes no valid problem either
+    colliding = [f"{which} in collision: " + ", ".join(f"{a} - {b}" for a, b in sorted(pairs))
+                 for which, state in (("start", start), ("goal", goal))
+                 if (pairs := scene.get_collisions(state, problem.group))]
+    if colliding:
+        out["status"] = "invalid: " + "; ".join(colliding)
+        return out
     scene.is_state_colliding()  # build the collision set-up, as a scene in use has it
     t0 = time.perf_counter()
     result, traj = pipeline.plan_joint(
@@ -345,7 +353,10 @@ def run(
         for p in ps:
             r = run_mtc(model, p, timeout, seed, pipeline)
             m_res.append(r)
-            b = run_baseline(p, baseline_timeout, seed) if have_baseline else None
+            if r["status"].startswith("invalid"):  # not planned by either planner
+                b = dict(r, problem=p.name) if have_baseline else None
+            else:
+                b = run_baseline(p, baseline_timeout, seed) if have_baseline else None
             if b is not None:
                 b_res.append(b)
             if verbose:

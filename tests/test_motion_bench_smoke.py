@@ -243,3 +243,47 @@ def test_generated_families_are_told_apart_from_shipped_ones(tmp_path, monkeypat
     suites = motion_bench.suites(None, None, 0, 0, model, generated=1, generated_families=["cage", "bookshelf_thin"])
     assert [(name, [p.name for p in ps]) for name, ps in suites] == [
         ("cage", ["cage/0001"]), ("cage_generated", ["cage_generated/0001"]), ("bookshelf_thin", ["bookshelf_thin/0001"])]
+
+
+def test_a_start_in_collision_is_invalid_for_both_planners():
+    """A box problem with an obstacle moved onto the hand at the start: reported invalid with
+    the colliding pair, and neither planner plans it (it would count as a failure)."""
+    import dataclasses
+
+    problem = motion_bench.load_family("box")[0]
+    model = motion_bench.mtc.robots.panda()
+    scene = motion_bench.build_scene(model, [])
+    start = motion_bench.problem_states(scene, problem)[0]
+    T = np.eye(4)
+    T[:3, 3] = start.get_global_link_transform("panda_hand")[:3, 3]
+    blocked = dataclasses.replace(problem, obstacles=problem.obstacles + (motion_bench.Obstacle("blk", "sphere", (0.05,), T),))
+    r = motion_bench.run_mtc(model, blocked, 1.0, 0, motion_bench.OMPLPipeline())
+    assert r["status"].startswith("invalid: start in collision: ") and "blk" in r["status"] and r["time_s"] == 0.0
+    assert "goal in collision" not in r["status"]
+    assert motion_bench.summarize([r])["invalid"] == 1
+
+
+def test_invalid_problems_are_skipped_by_the_baseline_too(tmp_path, monkeypatch):
+    """In a run, a problem mtc finds invalid (here: a sphere at the hand at the start) is not
+    planned by pyroboplan either, and counts as invalid in both rows."""
+    import yaml
+    from bench.problems import default_root
+
+    src = default_root() / "box_panda"
+    model = motion_bench.mtc.robots.panda()
+    scene = motion_bench.build_scene(model, [])
+    start = motion_bench.problem_states(scene, motion_bench.load_family("box")[0])[0]
+    hand = [float(v) for v in start.get_global_link_transform("panda_hand")[:3, 3]]
+    scene_dict = yaml.safe_load((src / "scene0001.yaml").read_text())
+    scene_dict["world"]["collision_objects"].append({
+        "id": "blk", "header": {"frame_id": "world"}, "primitives": [{"type": 2, "dimensions": [0.05]}],
+        "primitive_poses": [{"position": hand, "orientation": [0, 0, 0, 1]}]})
+    (tmp_path / "blocked_panda").mkdir()
+    (tmp_path / "blocked_panda" / "scene0001.yaml").write_text(yaml.safe_dump(scene_dict))
+    (tmp_path / "blocked_panda" / "request0001.yaml").write_text((src / "request0001.yaml").read_text())
+    monkeypatch.setenv("MTC_MBM_DIR", str(tmp_path))
+    baseline = _have_pyroboplan()
+    rows = motion_bench.run(table_shelf=0, baseline=baseline, out=io.StringIO())
+    assert rows[0]["mtc"]["invalid"] == 1 and rows[0]["mtc"]["solved"] == 0
+    if baseline:
+        assert rows[0]["pyroboplan"]["invalid"] == 1 and rows[0]["pyroboplan"]["solved"] == 0
