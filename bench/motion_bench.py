@@ -64,6 +64,7 @@ from bench.problems import (  # noqa: E402
     GENERATED_FAMILIES,
     READY_ARM,
     Obstacle,
+    default_root,
     families as mbm_families,
     Problem,
     generated_problems,
@@ -311,7 +312,11 @@ def speedup(mtc_results: Sequence[dict], base_results: Sequence[dict]) -> float:
 def suites(families: Sequence[str] | None, problems: int | None, table_shelf: int, seed: int, model,
            generated: int = 0, generated_families: Sequence[str] = ()) -> list:
     out = []
-    for fam in mbm_families() if families is None else families:
+    if families is None:
+        families = mbm_families()
+        if not families:
+            log.warning("no MotionBenchMaker families under %s (MTC_MBM_DIR): none planned", default_root())
+    for fam in families:
         ps = load_family(fam, keep_unreadable=True)  # an unreadable problem is reported, not planned
         out.append((ps[0].family if ps else fam, ps[:problems] if problems else ps))
     if table_shelf:

@@ -287,3 +287,13 @@ def test_invalid_problems_are_skipped_by_the_baseline_too(tmp_path, monkeypatch)
     assert rows[0]["mtc"]["invalid"] == 1 and rows[0]["mtc"]["solved"] == 0
     if baseline:
         assert rows[0]["pyroboplan"]["invalid"] == 1 and rows[0]["pyroboplan"]["solved"] == 0
+
+
+def test_a_problem_folder_without_families_is_said(tmp_path, monkeypatch, caplog):
+    """MTC_MBM_DIR at a folder without family folders (a typo, an unpacked archive one level
+    up): the run says so instead of planning nothing silently."""
+    monkeypatch.setenv("MTC_MBM_DIR", str(tmp_path / "nothing"))
+    with caplog.at_level("WARNING", logger="bench.motion_bench"):
+        rows = motion_bench.run(table_shelf=0, baseline=False, out=io.StringIO())
+    assert rows == []
+    assert f"no MotionBenchMaker families under {tmp_path / 'nothing'}" in caplog.text
