@@ -776,3 +776,27 @@ def test_messages_in_untyped_fields_round_trip():
     assert back == info
     assert isinstance(back.markers[0]["pose"], PoseStamped) and isinstance(back.markers[0]["points"][0], Point)
     assert "__msg__" not in to_dict(pose)
+
+
+def test_deepcopy_copies_every_nested_message_and_list():
+    """Messages copy field by field (properties, scenes and solutions copy them): nested
+    messages and lists are new objects equal to the old, and a message referenced twice in
+    one message stays one object in the copy, as copy.deepcopy keeps shared references."""
+
+    pose = msgs.Pose(position=msgs.Point(x=1.0))
+    obj = msgs.CollisionObject(
+        id="box", header=msgs.Header(frame_id="world"),
+        primitives=[msgs.SolidPrimitive(type=1, dimensions=[0.1, 0.2, 0.3])],
+        primitive_poses=[pose, pose], subframe_names=["tip"],
+    )
+    dup = copy.deepcopy(obj)
+    assert dup == obj and type(dup) is msgs.CollisionObject
+    assert dup.header is not obj.header and dup.primitives is not obj.primitives
+    assert dup.primitives[0] is not obj.primitives[0]
+    assert dup.primitives[0].dimensions is not obj.primitives[0].dimensions
+    assert dup.primitive_poses[0] is dup.primitive_poses[1] is not pose
+    dup.primitive_poses[0].position.x = 2.0
+    dup.subframe_names.append("base")
+    assert pose.position.x == 1.0 and obj.subframe_names == ["tip"]
+    traj = msgs.JointTrajectoryPoint(positions=[0.1, 0.2])
+    assert copy.deepcopy([traj, traj])[0] is not traj

@@ -40,6 +40,7 @@ means identity, any other is normalized.
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 import functools
 import math
@@ -137,6 +138,30 @@ class _Message:
     """Base of all messages (lets code and tests recognize a message by ``isinstance``)."""
 
     __slots__ = ()
+
+    def __deepcopy__(self, memo: dict) -> _Message:
+        # field by field: about six times faster than copy's generic protocol, and messages are
+        # copied wherever a property, a scene or a solution takes one (as MTC copies C++ values)
+        new = memo.get(id(self))
+        if new is None:
+            cls = type(self)
+            new = memo[id(self)] = object.__new__(cls)
+            for name in _field_names(cls):
+                object.__setattr__(new, name, _deepcopy_field(getattr(self, name), memo))
+        return new
+
+
+_IMMUTABLE = (str, int, float, bool, type(None))
+
+
+def _deepcopy_field(value: Any, memo: dict) -> Any:
+    if isinstance(value, _IMMUTABLE):
+        return value
+    if isinstance(value, _Message):
+        return value.__deepcopy__(memo)
+    if type(value) is list:
+        return [_deepcopy_field(v, memo) for v in value]
+    return copy.deepcopy(value, memo)
 
 
 def _setattr_keeping_lists(self: _Message, name: str, value: Any) -> None:
