@@ -20,7 +20,9 @@ sample why (``task.explainFailure()``). A failed sample is data too: it has no f
 line says what failed.
 
 Run: ``python examples/dataset.py --samples 100 --workers 2 --out pick_place_dataset`` (a
-folder that holds no dataset yet).
+folder that holds no dataset yet). ``--view N`` plans sample ``N`` of the dataset of ``--seed``
+again (the same plan: the sample is drawn from its own stream) and shows it in the browser,
+writing nothing.
 """
 
 from __future__ import annotations
@@ -41,6 +43,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))  # examples/ (for the pickplace task)
 
 import pickplace  # noqa: E402
+from _demo import run_example  # noqa: E402  (examples/_demo.py: plan, report, --view)
 
 #: Where the box is drawn from: x and y [m] in front of the robot, at pickplace's height.
 OBJECT_X, OBJECT_Y, OBJECT_Z = (0.30, 0.55), (-0.30, 0.30), 0.285
@@ -62,12 +65,18 @@ def draw_sample(seed: int, index: int) -> dict:
     }
 
 
-def plan_sample(job: tuple[dict, str, int, float]) -> dict:
-    """Plan one sample and write its files; returns its ``index.jsonl`` record."""
-    sample, out, max_solutions, timeout = job
+def sample_task(sample: dict, timeout: float = 60.0):
+    """The pick-and-place task of a sample (it sets up the current scene with the box)."""
     task = pickplace.make_task(sample["object_position"], sample["object_yaw"], sample["place_position"],
                                sample["seed"])
     task.timeout = timeout
+    return task
+
+
+def plan_sample(job: tuple[dict, str, int, float]) -> dict:
+    """Plan one sample and write its files; returns its ``index.jsonl`` record."""
+    sample, out, max_solutions, timeout = job
+    task = sample_task(sample, timeout)
     start = time.perf_counter()
     with contextlib.redirect_stdout(io.StringIO()):  # (a failed plan prints its tree, as MTC's)
         result = task.plan(max_solutions)
@@ -110,7 +119,7 @@ def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: i
     return records
 
 
-def main(argv: list[str] | None = None) -> list[dict]:
+def main(argv: list[str] | None = None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--samples", type=int, default=20, help="number of samples (default 20)")
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1, help="processes (default: one per core)")
@@ -119,7 +128,14 @@ def main(argv: list[str] | None = None) -> list[dict]:
     parser.add_argument("--solutions", type=int, default=1,
                         help="solutions to plan per sample; the best is saved (default 1)")
     parser.add_argument("--timeout", type=float, default=60.0, help="planning time limit per sample [s]")
+    parser.add_argument("--view", type=int, metavar="N",
+                        help="plan sample N again and show it in the browser (writes nothing)")
     args = parser.parse_args(argv)
+    if args.view is not None:
+        if args.view < 0 or args.seed < 0:
+            parser.error("--view and --seed take numbers >= 0")
+        sample = draw_sample(args.seed, args.view)
+        return run_example(lambda: sample_task(sample, args.timeout), __doc__, ["--view"], args.solutions)
     start = time.perf_counter()
     records = make_dataset(args.out, args.samples, args.workers, args.seed, args.solutions, args.timeout)
     solved = sum(r["solved"] for r in records)

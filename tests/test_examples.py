@@ -340,6 +340,9 @@ def test_dataset_is_the_same_for_any_number_of_workers(tmp_path):
     assert solution.cost == pytest.approx(sample["cost"])
     assert solution.start.scene.get_frame_transform("grasp_object")[:3, 3] == pytest.approx(sample["object_position"])
     assert end_scene(solution).get_frame_transform("grasp_object")[:3, 3] == pytest.approx(sample["place_position"], abs=1e-6)
+    # --view N plans sample N again, the same plan, and shows it (a NullViewer here)
+    viewed = namespace["main"](["--view", "2"])
+    assert [s.cost for s in viewed.solutions] == [one[2]["cost"]]
 
 
 def test_dataset_records_a_failed_sample_with_its_reason(tmp_path):
