@@ -315,7 +315,8 @@ def suites(families: Sequence[str] | None, problems: int | None, table_shelf: in
     if families is None:
         families = mbm_families()
         if not families:
-            log.warning("no MotionBenchMaker families under %s (MTC_MBM_DIR): none planned", default_root())
+            log.warning("no MotionBenchMaker families under %s: none planned (set MTC_MBM_DIR to the folder "
+                        "that holds the family folders)", default_root())
     for fam in families:
         ps = load_family(fam, keep_unreadable=True)  # an unreadable problem is reported, not planned
         out.append((ps[0].family if ps else fam, ps[:problems] if problems else ps))

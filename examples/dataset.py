@@ -20,9 +20,9 @@ sample why (``task.explainFailure()``). A failed sample is data too: it has no f
 line says what failed.
 
 Run: ``python examples/dataset.py --samples 100 --workers 2 --out pick_place_dataset`` (a
-folder that holds no dataset yet). ``--view N`` plans sample ``N`` of the dataset of ``--seed``
-again (the same plan: the sample is drawn from its own stream) and shows it in the browser,
-writing nothing.
+folder that holds no dataset yet). ``--view N`` plans sample ``N`` again and shows it in the
+browser, writing nothing; given the dataset's ``--seed`` and ``--solutions`` it is the same plan
+(the sample is drawn from its own stream; more solutions can find a cheaper best one).
 """
 
 from __future__ import annotations
@@ -132,8 +132,8 @@ def main(argv: list[str] | None = None):
                         help="plan sample N again and show it in the browser (writes nothing)")
     args = parser.parse_args(argv)
     if args.view is not None:
-        if args.view < 0 or args.seed < 0:
-            parser.error("--view and --seed take numbers >= 0")
+        if args.view < 0 or args.seed < 0 or args.solutions < 1 or not args.timeout > 0:
+            parser.error("--view and --seed take numbers >= 0, --solutions one >= 1, --timeout one > 0")
         sample = draw_sample(args.seed, args.view)
         return run_example(lambda: sample_task(sample, args.timeout), __doc__, ["--view"], args.solutions)
     start = time.perf_counter()

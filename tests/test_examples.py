@@ -343,6 +343,9 @@ def test_dataset_is_the_same_for_any_number_of_workers(tmp_path):
     # --view N plans sample N again, the same plan, and shows it (a NullViewer here)
     viewed = namespace["main"](["--view", "2"])
     assert [s.cost for s in viewed.solutions] == [one[2]["cost"]]
+    for bad in (["--view", "2", "--solutions", "0"], ["--view", "2", "--timeout", "0"]):
+        with pytest.raises(SystemExit):
+            namespace["main"](bad)
 
 
 def test_dataset_records_a_failed_sample_with_its_reason(tmp_path):

@@ -800,3 +800,24 @@ def test_deepcopy_copies_every_nested_message_and_list():
     assert pose.position.x == 1.0 and obj.subframe_names == ["tip"]
     traj = msgs.JointTrajectoryPoint(positions=[0.1, 0.2])
     assert copy.deepcopy([traj, traj])[0] is not traj
+
+
+def test_deepcopy_keeps_what_a_subclass_adds_and_shared_lists():
+    """A user's subclass of a message keeps its own attributes in a copy (it is copied the
+    generic way), and a list shared by two fields, or holding itself, is copied once."""
+
+    class TaggedPose(msgs.Pose):
+        __slots__ = ("label",)
+
+    pose = TaggedPose(position=msgs.Point(x=1.0))
+    pose.label = "grasp"
+    dup = copy.deepcopy(pose)
+    assert type(dup) is TaggedPose and dup.label == "grasp" and dup == pose and dup.position is not pose.position
+    shared = [0.1, 0.2]
+    point = msgs.JointTrajectoryPoint(positions=shared, velocities=shared)
+    dup = copy.deepcopy(point)
+    assert dup.positions is dup.velocities and dup.positions is not shared
+    loop: list = []
+    loop.append(loop)
+    dup = copy.deepcopy(msgs.JointTrajectoryPoint(positions=loop))
+    assert dup.positions[0] is dup.positions

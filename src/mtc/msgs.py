@@ -140,27 +140,38 @@ class _Message:
     __slots__ = ()
 
     def __deepcopy__(self, memo: dict) -> _Message:
-        # field by field: about six times faster than copy's generic protocol, and messages are
-        # copied wherever a property, a scene or a solution takes one (as MTC copies C++ values)
+        # mtc's own messages field by field: about five times faster than copy's generic
+        # protocol, and messages are copied wherever a property, a scene or a solution takes
+        # one (as MTC copies C++ values); a user's subclass (own attributes) the generic way
         new = memo.get(id(self))
-        if new is None:
-            cls = type(self)
-            new = memo[id(self)] = object.__new__(cls)
-            for name in _field_names(cls):
-                object.__setattr__(new, name, _deepcopy_field(getattr(self, name), memo))
+        if new is not None:
+            return new
+        cls = type(self)
+        if cls not in _OWN_MESSAGES:
+            return copy._reconstruct(self, memo, *self.__reduce_ex__(4))
+        new = memo[id(self)] = object.__new__(cls)
+        for name in _field_names(cls):
+            object.__setattr__(new, name, _deepcopy_field(getattr(self, name), memo))
         return new
 
 
-_IMMUTABLE = (str, int, float, bool, type(None))
+#: The message classes of this module (filled by :func:`_message`).
+_OWN_MESSAGES: set[type] = set()
+_IMMUTABLE = frozenset((str, int, float, bool, type(None)))
 
 
 def _deepcopy_field(value: Any, memo: dict) -> Any:
-    if isinstance(value, _IMMUTABLE):
+    if type(value) in _IMMUTABLE:  # (exactly: a subclass may carry state of its own)
         return value
     if isinstance(value, _Message):
         return value.__deepcopy__(memo)
-    if type(value) is list:
-        return [_deepcopy_field(v, memo) for v in value]
+    if type(value) is list:  # (through the memo, as copy.deepcopy: a shared list stays shared)
+        new = memo.get(id(value))
+        if new is None:
+            new = memo[id(value)] = []
+            memo.setdefault(id(memo), []).append(value)  # keep the original alive, as copy does
+            new.extend(_deepcopy_field(v, memo) for v in value)
+        return new
     return copy.deepcopy(value, memo)
 
 
@@ -183,6 +194,7 @@ def _message(cls: _M) -> _M:
     # only messages with array fields pay for the conversion hook (Point, Header, ... don't)
     if any(str(f.type).startswith("list[") for f in dataclasses.fields(cls)):
         cls.__setattr__ = _setattr_keeping_lists
+    _OWN_MESSAGES.add(cls)
     return cls
 
 
