@@ -32,6 +32,8 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from mtc import msgs
+
 ARM_JOINTS: tuple[str, ...] = tuple(f"panda_joint{i}" for i in range(1, 8))
 FINGER_JOINTS: tuple[str, ...] = ("panda_finger_joint1", "panda_finger_joint2")
 OBSTACLE_KINDS: tuple[str, ...] = ("box", "cylinder", "sphere", "cone", "mesh")
@@ -272,24 +274,13 @@ def families(root: str | os.PathLike | None = None) -> list[str]:
 
 
 def quaternion_to_matrix(xyzw: Sequence[float]) -> np.ndarray:
-    """Rotation matrix of a quaternion given as ``[x, y, z, w]`` (ROS order); normalises it.
-    An all-zero quaternion (an unset ROS orientation) is the identity, as MoveIt reads it."""
-    q = np.asarray(xyzw, dtype=float)
-    if q.shape != (4,):
-        raise ValueError(f"quaternion must have 4 entries [x, y, z, w], got {list(xyzw)}")
-    if not q.any():
-        return np.eye(3)
-    norm = np.linalg.norm(q)
-    if not np.isfinite(norm) or norm < 1e-9:
-        raise ValueError(f"quaternion {list(xyzw)} has no valid norm")
-    x, y, z, w = q / norm
-    return np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
-        ]
-    )
+    """Rotation matrix of a quaternion given as ``[x, y, z, w]`` (ROS order), read as mtc's
+    messages read it (:func:`mtc.msgs.quaternion_to_matrix`): normalised, and all zeros (an
+    unset ROS orientation) the identity, as MoveIt reads it."""
+    values = list(xyzw)
+    if len(values) != 4:
+        raise ValueError(f"quaternion must have 4 entries [x, y, z, w], got {values}")
+    return msgs.quaternion_to_matrix(msgs.Quaternion(*values))
 
 
 def _xyz(point, where: str) -> list[float]:
