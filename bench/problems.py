@@ -393,7 +393,11 @@ def load_problem(family: str, index: int, root: str | os.PathLike | None = None,
             (e.g. a plane, an unknown shape, a request without a joint goal) as one with
             :attr:`Problem.unreadable` set, instead of raising ``ValueError``.
     """
-    name, folder = _family_folder(family, root)
+    return _load_problem(*_family_folder(family, root), index, keep_unreadable)
+
+
+def _load_problem(name: str, folder: Path, index: int, keep_unreadable: bool) -> Problem:
+    """:func:`load_problem` of a family whose folder is known."""
     scene_file = folder / f"scene{index:04d}.yaml"
     request_file = folder / f"request{index:04d}.yaml"
     try:
@@ -448,9 +452,9 @@ def load_family(name: str, root: str | os.PathLike | None = None, keep_unreadabl
         root: The ``motion_bench_maker`` folder; ``default_root()`` when None.
         keep_unreadable: As :func:`load_problem`.
     """
-    _, folder = _family_folder(name, root)
+    family, folder = _family_folder(name, root)  # (once: it scans the root)
     indices = sorted(int(p.stem[len("request"):]) for p in folder.glob("request[0-9][0-9][0-9][0-9].yaml"))
-    return [load_problem(name, i, root, keep_unreadable) for i in indices]
+    return [_load_problem(family, folder, i, keep_unreadable) for i in indices]
 
 
 def load_all(root: str | os.PathLike | None = None) -> dict[str, list[Problem]]:
