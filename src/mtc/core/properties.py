@@ -839,10 +839,9 @@ class _PropertyAttribute:
         if p is None:
             obj.__dict__[name] = value
             return
-        if value is None:
-            if p._type is not None:
-                raise TypeError(f"property '{name}' expects {_type_name(p._type)}, got None")
-            _not_none(value, f"property '{name}'")
+        if value is None and p._type is not None:
+            raise TypeError(f"property '{name}' expects {_type_name(p._type)}, got None")
+        _not_none(value, f"property '{name}'")
         try:
             p._setValue(value)
         except PropertyError as e:

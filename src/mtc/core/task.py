@@ -230,8 +230,8 @@ class Task(WrapperBase):
         is ``enabled`` (MTC's Python binding); C++'s ``enable`` is taken too."""
         if enable is not None:
             enabled = enable
-        self._introspection_enabled = enable = msgs.flag(enabled, "enabled")
-        if not enable:
+        self._introspection_enabled = msgs.flag(enabled, "enabled")
+        if not self._introspection_enabled:
             self._introspection_obj = None
             for stage in self._allStages():
                 stage._introspection = None

@@ -159,7 +159,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
         solution = SubTrajectory()
         try:
             for obj in self._collision_objects:
-                self._processCollisionObject(scene, obj, invert, self.name)
+                self._processCollisionObject(scene, obj, invert)
             for names, link, attach in self._attach_objects:
                 apply_attach(scene, names, link, attach != invert, self.name)
             for first, second, allow in self._collision_matrix_edits:
@@ -180,8 +180,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
             solution.markAsFailure(str(e) or type(e).__name__)
         return scene, solution
 
-    @staticmethod
-    def _processCollisionObject(scene, obj: msgs.CollisionObject, invert: bool, stage_name: str) -> None:
+    def _processCollisionObject(self, scene, obj: msgs.CollisionObject, invert: bool) -> None:
         if invert:
             if obj.operation == msgs.CollisionObject.ADD:
                 obj = msgs.CollisionObject(id=obj.id, operation=msgs.CollisionObject.REMOVE)
@@ -194,7 +193,7 @@ class ModifyPlanningScene(PropagatingEitherWay):
         except KeyError as e:
             # as MTC, which ignores MoveIt's result here: removing or moving an object the scene
             # does not have (or adding one in an unknown frame) is logged and skipped
-            log.error("%s: cannot apply collision object '%s' (operation %d): %s", stage_name, obj.id, obj.operation,
+            log.error("%s: cannot apply collision object '%s' (operation %d): %s", self.name, obj.id, obj.operation,
                       msgs.error_text(e))
 
     @staticmethod
