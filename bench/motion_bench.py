@@ -359,10 +359,12 @@ def run(
         for p in ps:
             r = run_mtc(model, p, timeout, seed, pipeline)
             m_res.append(r)
-            if r["status"].startswith("invalid"):  # not planned by either planner
-                b = dict(r, problem=p.name) if have_baseline else None
+            if not have_baseline:
+                b = None
+            elif r["status"].startswith("invalid"):  # not planned by either planner
+                b = dict(r)
             else:
-                b = run_baseline(p, baseline_timeout, seed) if have_baseline else None
+                b = run_baseline(p, baseline_timeout, seed)
             if b is not None:
                 b_res.append(b)
             if verbose:
