@@ -135,6 +135,7 @@ def test_stuck_rrtconnect_alternates_with_the_fallback_and_both_keep_their_trees
     with the one set-up it made; the result is free, and the same for the same seed."""
     scene, start, goal = blocked
     monkeypatch.setattr(op, "FALLBACK_CHECKS", 1)
+    monkeypatch.setattr(op, "RACE_TURN", 10**6)  # one search (see the race's test below)
     made, solves = [], []
 
     class Recording(op._OMPLRun):
@@ -142,9 +143,9 @@ def test_stuck_rrtconnect_alternates_with_the_fallback_and_both_keep_their_trees
             super().__init__(req, x_start, goals, cls_name, *args)
             made.append(cls_name)
 
-        def solve(self, share, budget, partial=False):
+        def solve(self, share, budget, partial=False, halt=None):
             solves.append((self.cls_name, id(self), budget, partial))
-            return super().solve(share, budget, partial)
+            return super().solve(share, budget, partial, halt)
 
     monkeypatch.setattr(op, "_OMPLRun", Recording)
     pipeline = OMPLPipeline()
@@ -169,6 +170,41 @@ def test_stuck_rrtconnect_alternates_with_the_fallback_and_both_keep_their_trees
     again, traj2 = OMPLPipeline().plan_joint(scene, start, goal, ARM, timeout=20.0, seed=3)
     assert again
     np.testing.assert_array_equal(traj2.positions, traj.positions)
+
+
+@pytest.mark.parametrize("seed, second_wins", [(0, True), (3, False)])
+def test_a_stuck_search_races_a_second_one_with_one_answer_wherever_it_runs(blocked, monkeypatch, seed, second_wins):
+    """After RACE_TURN turns without a path a second search (other seeds) races the first;
+    the one that ends with fewer state checks wins. Run side by side in a child process or in
+    turns in this one, the race gives the same path: a seed gives one answer."""
+    from mtc.planners import _race
+
+    scene, start, goal = blocked
+    monkeypatch.setattr(op, "FALLBACK_CHECKS", 1)  # turns of 1, 8, 4, 32, ... checks
+    ran = []
+    for name in ("_forked", "_in_turns"):
+        real = getattr(_race, name)
+
+        def spy(*args, real=real, name=name):
+            ran.append(name)
+            return real(*args)
+
+        monkeypatch.setattr(_race, name, spy)
+    answers = []
+    modes = [False] + ([True] if sys.platform.startswith("linux") else [])
+    for parallel in modes:
+        monkeypatch.setattr(_race, "can_fork", lambda parallel=parallel: parallel)
+        pipeline = OMPLPipeline()
+        result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=20.0, seed=seed)
+        assert result, result.message
+        _assert_collision_free_at(scene, traj, 0.005)
+        answers.append((traj.positions, pipeline.last_stats.race_won_by_second, pipeline.last_stats.planner))
+    assert ran == ["_in_turns", "_forked"][: len(modes)]
+    for positions, second, planner in answers[1:]:
+        np.testing.assert_array_equal(positions, answers[0][0])
+        assert (second, planner) == answers[0][1:]
+    # which search wins depends on the seed (here: the second at seed 0, the first at seed 3)
+    assert answers[0][1] == second_wins
 
 
 def test_free_straight_line_is_taken(ready_scene, pipeline):

@@ -42,9 +42,11 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    (LBKPIECE1, which checks lazily: only the edges of paths that join start and goal), both
    going on with their trees and the budgets growing each turn: a start or goal in a trap
    keeps RRTConnect's trees stuck for seconds. From its second turn on the fallback keeps the
-   free part of a blocked motion (OMPL's own motion validator then). Planners that grid a
-   projection of the space (the KPIECE family) project onto the group's first two joints, as
-   MoveIt's Panda configuration does (``projection_evaluator:
+   free part of a blocked motion (OMPL's own motion validator then). A search still without
+   a path after :data:`RACE_TURN` turns races a second one with other seeds (on another core
+   where the process can fork); the first to find a path, counted in state checks, wins.
+   Planners that grid a projection of the space (the KPIECE family) project onto the group's
+   first two joints, as MoveIt's Panda configuration does (``projection_evaluator:
    joints(panda_joint1,panda_joint2)``); the fallback, where the goal is wedged, onto the tip
    link's position near the goal.
 5. The path is shortened in numpy (greedy vertex shortcuts, then random shortcuts between
@@ -71,13 +73,14 @@ Failure messages are MoveIt's error code names, with details after a colon:
 
 from __future__ import annotations
 
+import copy
 import itertools
 import logging
 import math
 import time
 from collections.abc import Callable
 from contextlib import contextmanager
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import ompl.base as ob
@@ -85,6 +88,7 @@ import ompl.geometric as og
 import ompl.util as ou
 
 from mtc import msgs
+from mtc.planners._race import race
 from mtc.planners.constraints import ConstraintEvaluator, KinematicConstraintSet
 from mtc.planners.planner_interface import invalid_constraints
 from mtc.scene.planning_scene import PlanningScene
@@ -194,6 +198,18 @@ FALLBACK_PARTIAL_TURN = 1
 WEDGED_GOAL_PROBES = 32
 WEDGED_GOAL_STEP = 0.2
 WEDGED_GOAL_FREE = 2
+
+#: A search that has not found a path after this many turns (RRTConnect's first, the
+#: fallback's first: 5,400 state checks, about 80 ms on the Panda) races a second search with
+#: other seeds (see :meth:`OMPLPipeline._race`): run times are heavy-tailed over seeds, and a
+#: second search often ends a long run early. On the eight slowest generated problems known,
+#: 12 seeds each, racing on two cores took 22% less time in all than one search, and 8 of the
+#: 96 runs took more than 1 s instead of 14 (racing from the fourth turn: 10% less, 12 runs);
+#: in turns in one process it took 19% more. None of the benchmark's 198 MotionBenchMaker and
+#: table-and-shelf problems gets this far.
+RACE_TURN = 2
+#: The second search's seed is the first one's plus this.
+RACE_SEED_OFFSET = 15485863
 
 #: Time budget [s] of a request whose timeout is infinite (MoveIt's default planning time).
 UNBOUNDED_TIMEOUT = 5.0
@@ -345,6 +361,8 @@ class PlanStats:
             every state on them) and were replanned.
         certify_checks: state checks spent proving edges collision-free between their
             sampled states (part of ``states_checked``).
+        race_won_by_second: a search raced a second one (see :data:`RACE_TURN`) and the
+            second one's path was taken.
     """
 
     planner: str = ""
@@ -359,6 +377,7 @@ class PlanStats:
     search_checks: int = 0
     fine_retries: int = 0
     certify_checks: int = 0
+    race_won_by_second: bool = False
 
 
 # ---------------------------------------------------------------------------------------------
@@ -453,6 +472,23 @@ class _EdgeChecker:
         # robot's joints have them (revolute, prismatic), else edges are sampled finely
         self.certified = self._motion.certifiable
         self._touch_margins: np.ndarray | None = None  # see touching()
+
+    def branch(self) -> _EdgeChecker:
+        """A checker for a second search racing this one: the same scene and settings, copies
+        of what is known valid or not so far, and its own counts."""
+        other = copy.copy(self)
+        other.adopt_caches(self)
+        other._buf = self._buf.copy()
+        other.states_checked = other.certify_checks = 0
+        other.check_time = 0.0
+        return other
+
+    def adopt_caches(self, other: _EdgeChecker) -> None:
+        """Know valid or invalid what ``other`` knows (copies of its caches), nothing else."""
+        self._valid_states = set(other._valid_states)
+        self._coarse_edges = set(other._coarse_edges)
+        self._fine_edges = set(other._fine_edges)
+        self._bad_fine = set(other._bad_fine)
 
     def full(self, x: np.ndarray) -> np.ndarray:
         q = self._base.copy()
@@ -1502,48 +1538,54 @@ class OMPLPipeline:
 
         RRTConnect's run time is heavy-tailed: a start or goal in a trap (a narrow way out,
         joints near their limits) keeps its tree stuck for seconds, most of its checks spent
-        on extensions that end at an obstacle. So RRTConnect runs until it has checked
-        :data:`FALLBACK_CHECKS` states, then :data:`FALLBACK_PLANNER` (lazy: it grows its
-        trees unchecked, favouring the least explored cells of a projection, and checks only
-        the edges of a path that joins start and goal) gets :data:`FALLBACK_SHARE` times as
-        many, then RRTConnect again with four times its first budget, and so on. Both go on
-        with their trees from turn to turn; from :data:`FALLBACK_PARTIAL_TURN` on, the fallback
-        keeps the free part of its blocked motions, and where the goal is wedged it projects
-        onto the tip's position there (:func:`_wedged_goal_projection`). Budgets count state
-        checks, not time, so a seed still gives one result."""
-        limit = None if max_checks is None else req.checker.states_checked + max_checks
-        runs = [_OMPLRun(req, x_start, goals, cls_name, seed, self.planner_range)]
-        try:
-            if cls_name != "RRTConnect" or FALLBACK_PLANNER not in _PLANNERS.values():
-                path, message, cut = runs[0].solve(share, max_checks)
-                return path, (_out_of_checks(max_checks, cls_name) if cut else message)
-            turn = 0
-            while True:
-                # RRTConnect: B, 4B, 16B, ...; the fallback: S B, 4 S B, ... (B = FALLBACK_CHECKS)
-                budget = FALLBACK_CHECKS * 4 ** (turn // 2) * (FALLBACK_SHARE if turn % 2 else 1)
-                if limit is not None:
-                    if req.checker.states_checked >= limit:
-                        return None, _out_of_checks(max_checks, f"{cls_name}, {FALLBACK_PLANNER}")
-                    budget = min(budget, limit - req.checker.states_checked)
-                if turn == 1:
-                    runs.append(_OMPLRun(req, x_start, goals, FALLBACK_PLANNER, seed + 104729, self.planner_range,
-                                         _wedged_goal_projection(req, goals[0])))
-                run = runs[turn % 2]
-                name = run.cls_name
-                partial = turn % 2 == 1 and turn // 2 >= FALLBACK_PARTIAL_TURN
-                path, message, cut = run.solve(share, budget, partial)
-                if not cut:
-                    if path is not None and name != cls_name:
-                        self.last_stats.planner = name
-                    if turn > 0 and message:
-                        message = message.replace(f"({name})", f"({cls_name}, {FALLBACK_PLANNER})")
-                    return path, message
-                log.debug("%s: no path after %d state checks, trying %s", name, budget,
-                          FALLBACK_PLANNER if name == cls_name else cls_name)
-                turn += 1
-        finally:
-            for run in runs:
+        on extensions that end at an obstacle. So RRTConnect takes turns with
+        :data:`FALLBACK_PLANNER` (see :class:`_TurnSearch`). A search (not a repair's
+        sub-search) that has not found a path after :data:`RACE_TURN` turns races a second
+        such search with other seeds (:func:`mtc.planners._race.race`: on another core where
+        the process can fork); the one that finds a path with fewer state checks wins. Budgets
+        count state checks, not time, so a seed still gives one result."""
+        if cls_name != "RRTConnect" or FALLBACK_PLANNER not in _PLANNERS.values():
+            run = _OMPLRun(req, x_start, goals, cls_name, seed, self.planner_range)
+            try:
+                path, message, cut = run.solve(share, max_checks)
+            finally:
                 run.release()
+            return path, (_out_of_checks(max_checks, cls_name) if cut else message)
+        search = _TurnSearch(req, x_start, goals, cls_name, seed, self.planner_range, share, max_checks)
+        try:
+            end = None
+            while end is None and (max_checks is not None or search.turn < RACE_TURN):
+                end = search.step()
+            if end is None:
+                end = self._race(req, search, x_start, goals, cls_name, seed, share)
+        finally:
+            search.release()
+        path, message, planner = end
+        if path is not None and planner != cls_name:
+            self.last_stats.planner = planner
+        return path, message
+
+    def _race(self, req: _Request, first: _TurnSearch, x_start, goals, cls_name: str, seed: int, share):
+        """Race ``first`` against a second search with the seed ``seed +``
+        :data:`RACE_SEED_OFFSET` that starts with ``first``'s caches as they are now; then go on
+        with those caches (whichever search won, and however far the other got), so what
+        follows does not depend on where the race ran."""
+        checker = req.checker
+        saved = checker.branch()
+        second = _TurnSearch(replace(req, checker=checker.branch()), x_start, goals, cls_name,
+                             seed + RACE_SEED_OFFSET, self.planner_range, share)
+        first.reseed = second.reseed = True
+        try:
+            offset = first.checks
+            winner, end, second_checks = race(first, second, offset)
+        finally:
+            second.release()
+        checker.adopt_caches(saved)
+        checker.states_checked += second_checks
+        self.last_stats.race_won_by_second = winner == 1
+        log.debug("search raced a second one after %d checks: the %s ended first", offset,
+                  "second" if winner else "first")
+        return end
 
     # ------------------------------------------------------------------ constrained
     def _run_constrained(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
@@ -1595,6 +1637,7 @@ class _OMPLRun:
                  planner_range: float, projection: np.ndarray | None = None):
         self.req = req
         self.cls_name = cls_name
+        self.seed = seed
         k = req.group.variable_count
         self._k = range(k)
         with _quiet_ompl():
@@ -1672,10 +1715,10 @@ class _OMPLRun:
             self._partial = (own, own.getMotionValidator())
             si.setMotionValidator(self._partial[1])
 
-    def solve(self, share, budget: int | None, partial: bool = False):
+    def solve(self, share, budget: int | None, partial: bool = False, halt: Callable[[], bool] | None = None):
         """Run (on): (path, message, cut); ``cut`` is True when the run stopped because it
-        checked ``budget`` states (the caller goes on with another run), not because of the
-        time.
+        checked ``budget`` states (the caller goes on with another run) or ``halt()`` (asked
+        between the planner's iterations) returned True, not because of the time.
 
         ``partial``: from now on motions are checked by OMPL's own validator, one state at a
         time from their start, so a blocked motion tells how far it is free. The KPIECE
@@ -1704,7 +1747,7 @@ class _OMPLRun:
                 limit = checker.states_checked + budget
 
                 def stop() -> bool:
-                    if checker.states_checked >= limit:
+                    if checker.states_checked >= limit or (halt is not None and halt()):
                         cut[0] = True
                         return True
                     return time.perf_counter() >= stop_at
@@ -1732,6 +1775,80 @@ class _OMPLRun:
         if status_type == ob.PlannerStatus.TIMEOUT:
             return None, timed_out, False
         return None, f"PLANNING_FAILED: {cls_name}: {status_text}", False
+
+
+class _TurnSearch:
+    """RRTConnect and :data:`FALLBACK_PLANNER` in turns on one request (see
+    :meth:`OMPLPipeline._run_ompl`); a search for :func:`mtc.planners._race.race`.
+
+    RRTConnect runs until it has checked :data:`FALLBACK_CHECKS` states, then the fallback
+    (lazy: it grows its trees unchecked, favouring the least explored cells of a projection,
+    and checks only the edges of a path that joins start and goal) gets :data:`FALLBACK_SHARE`
+    times as many, then RRTConnect again with four times its first budget, and so on. Both go
+    on with their trees from turn to turn; from :data:`FALLBACK_PARTIAL_TURN` on, the fallback
+    keeps the free part of its blocked motions, and where the goal is wedged it projects onto
+    the tip's position there (:func:`_wedged_goal_projection`).
+
+    ``max_checks``: the search ends (without a path) after that many state checks.
+    ``reseed``: each turn first seeds OMPL's generator from its planner's seed and the turn, so
+    that what it draws does not depend on other searches run in between (set in a race).
+    """
+
+    def __init__(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
+                 planner_range: float, share=None, max_checks: int | None = None):
+        self.req = req
+        self._goals = goals
+        self._x_start = x_start
+        self._range = planner_range
+        self._share = share
+        self._start_checks = req.checker.states_checked
+        self._max_checks = max_checks
+        self._limit = None if max_checks is None else self._start_checks + max_checks
+        self._runs = [_OMPLRun(req, x_start, goals, cls_name, seed, planner_range)]
+        self._cls_name = cls_name
+        self.turn = 0
+        self.reseed = False
+
+    @property
+    def checks(self) -> int:
+        """State checks made by this search so far."""
+        return self.req.checker.states_checked - self._start_checks
+
+    def step(self, halt: Callable[[], bool] | None = None):
+        """Run the next turn: None when it used up its budget (or ``halt()`` stopped it), else
+        (path or None, message, name of the planner that ended the search)."""
+        req, turn, cls_name = self.req, self.turn, self._cls_name
+        checker = req.checker
+        # RRTConnect: B, 4B, 16B, ...; the fallback: S B, 4 S B, ... (B = FALLBACK_CHECKS)
+        budget = FALLBACK_CHECKS * 4 ** (turn // 2) * (FALLBACK_SHARE if turn % 2 else 1)
+        if self._limit is not None:
+            if checker.states_checked >= self._limit:
+                return None, _out_of_checks(self._max_checks, f"{cls_name}, {FALLBACK_PLANNER}"), cls_name
+            budget = min(budget, self._limit - checker.states_checked)
+        if turn == 1:
+            self._runs.append(_OMPLRun(req, self._x_start, self._goals, FALLBACK_PLANNER,
+                                       self._runs[0].seed + 104729, self._range,
+                                       _wedged_goal_projection(req, self._goals[0])))
+        run = self._runs[turn % 2]
+        name = run.cls_name
+        if self.reseed:
+            with _quiet_ompl():
+                ou.RNG.setSeed(_ompl_seed(run.seed + 7919 * turn))
+        partial = turn % 2 == 1 and turn // 2 >= FALLBACK_PARTIAL_TURN
+        path, message, cut = run.solve(self._share, budget, partial, halt)
+        if not cut:
+            if turn > 0 and message:
+                message = message.replace(f"({name})", f"({cls_name}, {FALLBACK_PLANNER})")
+            return path, message, name
+        self.turn += 1
+        if halt is None or not halt():
+            log.debug("%s: no path after %d state checks, trying %s", name, budget,
+                      FALLBACK_PLANNER if name == cls_name else cls_name)
+        return None
+
+    def release(self) -> None:
+        for run in self._runs:
+            run.release()
 
 
 # ---------------------------------------------------------------------------------------------
