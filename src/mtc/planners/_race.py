@@ -27,7 +27,6 @@ the first one's end (a tie goes to the first).
 
 from __future__ import annotations
 
-import gc
 import logging
 import mmap
 import os
@@ -109,15 +108,10 @@ def _forked(a, b, offset: int):
     _SLOT.pack_into(shared, 0, _NOT_DONE)
     _SLOT.pack_into(shared, _SLOT.size, _NOT_DONE)
     read_fd, write_fd = os.pipe()
-    # the two processes share the parent's memory until one writes to a page; a garbage
-    # collection writes to every object it visits, so the objects made so far are kept out of
-    # the collections while the race lasts
-    gc.freeze()
     pid = os.fork()
     if pid == 0:  # the child: search b, report, exit without running the parent's clean-up
         status = 1
         try:
-            gc.disable()
             os.close(read_fd)
             report = _child(b, offset, shared)
             with os.fdopen(write_fd, "wb") as out:
@@ -134,7 +128,6 @@ def _forked(a, b, offset: int):
         os.waitpid(pid, 0)
         pid = 0
     finally:
-        gc.unfreeze()
         if pid:  # interrupted: the child is not needed any more
             os.kill(pid, signal.SIGKILL)
             os.waitpid(pid, 0)
