@@ -201,7 +201,7 @@ WEDGED_GOAL_FREE = 2
 
 #: A search that has not found a path after this many turns (RRTConnect's first, the
 #: fallback's first: 5,400 state checks, about 80 ms on the Panda) races a second search with
-#: other seeds (see :meth:`OMPLPipeline._race`): run times are heavy-tailed over seeds, and a
+#: other seeds (see :meth:`OMPLPipeline._race_second_search`): run times are heavy-tailed over seeds, and a
 #: second search often ends a long run early. On the eight slowest generated problems known,
 #: 12 seeds each, racing on two cores took 22% less time in all than one search, and 8 of the
 #: 96 runs took more than 1 s instead of 14 (racing from the fourth turn: 10% less, 12 runs);
@@ -473,22 +473,23 @@ class _EdgeChecker:
         self.certified = self._motion.certifiable
         self._touch_margins: np.ndarray | None = None  # see touching()
 
+    def caches(self) -> tuple[set[bytes], ...]:
+        """Copies of what is known valid or invalid so far (see :meth:`restore_caches`)."""
+        return tuple(set(c) for c in (self._valid_states, self._coarse_edges, self._fine_edges, self._bad_fine))
+
+    def restore_caches(self, caches: tuple[set[bytes], ...]) -> None:
+        """Know valid or invalid what :meth:`caches` returned (copies of it), nothing else."""
+        self._valid_states, self._coarse_edges, self._fine_edges, self._bad_fine = (set(c) for c in caches)
+
     def branch(self) -> _EdgeChecker:
         """A checker for a second search racing this one: the same scene and settings, copies
         of what is known valid or not so far, and its own counts."""
         other = copy.copy(self)
-        other.adopt_caches(self)
+        other.restore_caches(self.caches())
         other._buf = self._buf.copy()
         other.states_checked = other.certify_checks = 0
         other.check_time = 0.0
         return other
-
-    def adopt_caches(self, other: _EdgeChecker) -> None:
-        """Know valid or invalid what ``other`` knows (copies of its caches), nothing else."""
-        self._valid_states = set(other._valid_states)
-        self._coarse_edges = set(other._coarse_edges)
-        self._fine_edges = set(other._fine_edges)
-        self._bad_fine = set(other._bad_fine)
 
     def full(self, x: np.ndarray) -> np.ndarray:
         q = self._base.copy()
@@ -1409,6 +1410,8 @@ class OMPLPipeline:
             run_seed = seed + attempt + 1000003 * renewed
             if renewed:
                 checker.search_fine = True  # (a renewed search checks its edges in full)
+            if runner == self._run_ompl:  # (the runner names the planner whose path it took)
+                stats.planner, stats.race_won_by_second = cls_name, False
             path, message = runner(req, req.x_start, goals, cls_name, run_seed, share)
             stats.plan_time += time.perf_counter() - t_plan
             stats.search_checks += checker.states_checked - before
@@ -1428,12 +1431,13 @@ class OMPLPipeline:
                 attempt += 1
                 continue
             if best is None or _path_length(final) < _path_length(best):
-                best = final
+                best, kept = final, (stats.planner, stats.race_won_by_second)
             attempt += 1
         if best is None:
             if not last_message:
                 last_message = f"TIMED_OUT: no attempt could start within {req.deadline - req.t0:.3g} s"
             return self._fail(req, last_message)
+        stats.planner, stats.race_won_by_second = kept  # the kept attempt's
         t_simp = time.perf_counter()
         dense = _interpolate(best, checker, self._max_segment(req), MIN_WAYPOINT_COUNT)
         stats.simplify_time += time.perf_counter() - t_simp
@@ -1557,7 +1561,7 @@ class OMPLPipeline:
             while end is None and (max_checks is not None or search.turn < RACE_TURN):
                 end = search.step()
             if end is None:
-                end = self._race(req, search, x_start, goals, cls_name, seed, share)
+                end = self._race_second_search(req, search, x_start, goals, cls_name, seed, share)
         finally:
             search.release()
         path, message, planner = end
@@ -1565,23 +1569,25 @@ class OMPLPipeline:
             self.last_stats.planner = planner
         return path, message
 
-    def _race(self, req: _Request, first: _TurnSearch, x_start, goals, cls_name: str, seed: int, share):
+    def _race_second_search(self, req: _Request, first: _TurnSearch, x_start, goals, cls_name: str, seed: int,
+                            share):
         """Race ``first`` against a second search with the seed ``seed +``
         :data:`RACE_SEED_OFFSET` that starts with ``first``'s caches as they are now; then go on
-        with those caches (whichever search won, and however far the other got), so what
-        follows does not depend on where the race ran."""
+        with those caches (whichever search won, and however far the other got), and count
+        the checks both made up to the winner's end, so that what follows does not depend on
+        where the race ran."""
         checker = req.checker
-        saved = checker.branch()
+        saved = checker.caches()
         second = _TurnSearch(replace(req, checker=checker.branch()), x_start, goals, cls_name,
                              seed + RACE_SEED_OFFSET, self.planner_range, share)
         first.reseed = second.reseed = True
+        offset = first.checks
         try:
-            offset = first.checks
-            winner, end, second_checks = race(first, second, offset)
+            winner, end, checks = race(first, second, offset, req.deadline)
         finally:
             second.release()
-        checker.adopt_caches(saved)
-        checker.states_checked += second_checks
+        checker.restore_caches(saved)
+        checker.states_checked += checks - first.checks
         self.last_stats.race_won_by_second = winner == 1
         log.debug("search raced a second one after %d checks: the %s ended first", offset,
                   "second" if winner else "first")
@@ -1833,7 +1839,7 @@ class _TurnSearch:
         name = run.cls_name
         if self.reseed:
             with _quiet_ompl():
-                ou.RNG.setSeed(_ompl_seed(run.seed + 7919 * turn))
+                ou.RNG.setSeed(_ompl_seed(run.seed + 1299709 * turn))
         partial = turn % 2 == 1 and turn // 2 >= FALLBACK_PARTIAL_TURN
         path, message, cut = run.solve(self._share, budget, partial, halt)
         if not cut:
