@@ -1580,7 +1580,6 @@ class OMPLPipeline:
         saved = checker.caches()
         second = _TurnSearch(replace(req, checker=checker.branch()), x_start, goals, cls_name,
                              seed + RACE_SEED_OFFSET, self.planner_range, share)
-        first.reseed = second.reseed = True
         offset = first.checks
         try:
             winner, end, checks = race(first, second, offset, req.deadline)
@@ -1796,8 +1795,10 @@ class _TurnSearch:
     the tip's position there (:func:`_wedged_goal_projection`).
 
     ``max_checks``: the search ends (without a path) after that many state checks.
-    ``reseed``: each turn first seeds OMPL's generator from its planner's seed and the turn, so
-    that what it draws does not depend on other searches run in between (set in a race).
+
+    Each planner's random generators are seeded when it is made (:class:`_OMPLRun`), and OMPL
+    makes their samplers in their first turn, so what a turn draws does not depend on other
+    searches run in between (a race in turns draws as a race side by side).
     """
 
     def __init__(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
@@ -1813,7 +1814,6 @@ class _TurnSearch:
         self._runs = [_OMPLRun(req, x_start, goals, cls_name, seed, planner_range)]
         self._cls_name = cls_name
         self.turn = 0
-        self.reseed = False
 
     @property
     def checks(self) -> int:
@@ -1837,9 +1837,6 @@ class _TurnSearch:
                                        _wedged_goal_projection(req, self._goals[0])))
         run = self._runs[turn % 2]
         name = run.cls_name
-        if self.reseed:
-            with _quiet_ompl():
-                ou.RNG.setSeed(_ompl_seed(run.seed + 1299709 * turn))
         partial = turn % 2 == 1 and turn // 2 >= FALLBACK_PARTIAL_TURN
         path, message, cut = run.solve(self._share, budget, partial, halt)
         if not cut:
