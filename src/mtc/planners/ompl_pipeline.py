@@ -201,12 +201,12 @@ WEDGED_GOAL_FREE = 2
 
 #: A search that has not found a path after this many turns (RRTConnect's first, the
 #: fallback's first: 5,400 state checks, about 80 ms on the Panda) races a second search with
-#: other seeds (see :meth:`OMPLPipeline._race_second_search`): run times are heavy-tailed over seeds, and a
-#: second search often ends a long run early. On the eight slowest generated problems known,
-#: 12 seeds each, racing on two cores took 22% less time in all than one search, and 8 of the
-#: 96 runs took more than 1 s instead of 14 (racing from the fourth turn: 10% less, 12 runs);
-#: in turns in one process it took 19% more. None of the benchmark's 198 MotionBenchMaker and
-#: table-and-shelf problems gets this far.
+#: other seeds (see :meth:`OMPLPipeline._race_second_search`): run times are heavy-tailed
+#: over seeds, and a second search often ends a long run early. On the eight slowest
+#: generated problems known, 12 seeds each, racing on two cores took 18% less time in all
+#: than one search, and 9 of the 96 runs took more than 1 s instead of 14; in turns in one
+#: process it took 21% more (18 runs).
+#: None of the benchmark's 198 MotionBenchMaker and table-and-shelf problems gets this far.
 RACE_TURN = 2
 #: The second search's seed is the first one's plus this.
 RACE_SEED_OFFSET = 15485863
