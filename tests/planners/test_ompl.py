@@ -209,6 +209,29 @@ def test_a_stuck_search_races_a_second_one_with_one_answer_wherever_it_runs(bloc
     assert answers[0][1] == second_wins
 
 
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="the side-by-side race forks (Linux only)")
+@pytest.mark.parametrize("race_turn", [1, 3])
+def test_the_race_draws_alike_in_both_modes_whichever_turn_it_starts_at(blocked, monkeypatch, race_turn):
+    """Whatever the first search did before and does between the second one's turns, the
+    second one draws the same numbers in turns as in its own process (each planner is made,
+    and seeds OMPL's generator, right before its first turn)."""
+    from mtc.planners import _race
+
+    scene, start, goal = blocked
+    monkeypatch.setattr(op, "FALLBACK_CHECKS", 1)
+    monkeypatch.setattr(op, "RACE_TURN", race_turn)
+    for seed in range(6):
+        answers = []
+        for parallel in (False, True):
+            monkeypatch.setattr(_race, "can_fork", lambda parallel=parallel: parallel)
+            pipeline = OMPLPipeline()
+            result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=20.0, seed=seed)
+            assert result, result.message
+            answers.append((traj.positions, pipeline.last_stats.states_checked))
+        np.testing.assert_array_equal(answers[0][0], answers[1][0])
+        assert answers[0][1] == answers[1][1]
+
+
 def test_free_straight_line_is_taken(ready_scene, pipeline):
     start = _state(ready_scene, panda_joint1=-0.5)
     goal = _state(ready_scene, panda_joint1=0.5, panda_joint4=-2.0)

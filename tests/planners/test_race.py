@@ -191,6 +191,27 @@ def test_a_stuck_child_is_killed_after_the_deadline(caplog):
 
 
 @FORK
+def test_where_fork_fails_the_two_take_turns(monkeypatch, caplog):
+    def no_fork():
+        raise BlockingIOError(11, "Resource temporarily unavailable")
+
+    monkeypatch.setattr(_race.os, "fork", no_fork)
+    fds = len(os.listdir("/proc/self/fd"))
+    with caplog.at_level(logging.WARNING, logger=_race.__name__):
+        got = _race.race(Search("a", found=100), Search("b", found=40), 50, _deadline(), parallel=True)
+    assert got == (1, ("path of b", "", "b"), (50 + 40) + 40)  # a up to b's end, and b
+    assert "could not fork the second search" in caplog.text
+    assert len(os.listdir("/proc/self/fd")) == fds
+
+
+@FORK
+def test_a_far_deadline_is_waited_for_in_pieces():
+    """select() cannot wait 1e10 s at once: the parent waits in pieces."""
+    got = _race.race(Search("a", found=100), Search("b", found=40), 50, _deadline(1e10), parallel=True)
+    assert got[0] == 1
+
+
+@FORK
 def test_no_descriptor_is_left_open_when_the_first_search_raises():
     class Raising(Search):
         def step(self, halt):

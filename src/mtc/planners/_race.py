@@ -76,7 +76,11 @@ def race(a, b, offset: int, deadline: float, parallel: bool | None = None):
     checks), with winner 0 (``a``) or 1 (``b``), the winner's end tuple, and the checks both
     searches made up to the winner's end on the common clock (the same number however the
     race ran). ``deadline`` (``time.perf_counter()``) is the searches' own time limit.
-    ``parallel``: None decides by :func:`can_fork`."""
+    ``parallel``: None decides by :func:`can_fork`.
+
+    Should the child process die without a report, or still run a second past the deadline,
+    it is killed and ``a`` wins alone (a warning is logged): where it had been halted, it is
+    stepped on to its end, and the checks are its own."""
     if parallel is None:
         parallel = can_fork()
     (at_a, end_a), report = _forked(a, b, offset, deadline) if parallel else _in_turns(a, b, offset)
@@ -138,11 +142,17 @@ def _forked(a, b, offset: int, deadline: float):
     shared = _shared_clocks()  # the clock at each search's end
     read_fd, write_fd = os.pipe()
     parent = os.getpid()
-    with warnings.catch_warnings():
-        # Python 3.12+ warns of fork() in a process with native threads: numpy's OpenBLAS pool,
-        # which registers its own fork handlers (can_fork rules out other Python threads)
-        warnings.filterwarnings("ignore", r"This process .* is multi-threaded", DeprecationWarning)
-        pid = os.fork()
+    try:
+        with warnings.catch_warnings():
+            # Python 3.12+ warns of fork() in a process with native threads: numpy's OpenBLAS
+            # pool, which registers its own fork handlers (can_fork rules out Python threads)
+            warnings.filterwarnings("ignore", r"This process .* is multi-threaded", DeprecationWarning)
+            pid = os.fork()
+    except OSError as error:  # (out of processes or memory) the same race, in turns
+        os.close(read_fd)
+        os.close(write_fd)
+        log.warning("could not fork the second search (%s); the two take turns", error)
+        return _in_turns(a, b, offset)
     if pid == 0:  # the child: search b, report, exit without running the parent's clean-up
         try:
             os.close(read_fd)
@@ -240,8 +250,10 @@ def _read_until(inp, until: float) -> bytes | None:
     fd = inp.fileno()
     while True:
         wait = until - time.perf_counter()
-        if wait <= 0 or not select.select([fd], [], [], wait)[0]:
+        if wait <= 0:
             return None
+        if not select.select([fd], [], [], min(wait, 60.0))[0]:
+            continue
         chunk = os.read(fd, 1 << 16)
         if not chunk:
             return b"".join(chunks)

@@ -1565,7 +1565,7 @@ class OMPLPipeline:
         finally:
             search.release()
         path, message, planner = end
-        if path is not None and planner != cls_name:
+        if path is not None and planner != cls_name and max_checks is None:  # (not a repair's)
             self.last_stats.planner = planner
         return path, message
 
@@ -1642,7 +1642,6 @@ class _OMPLRun:
                  planner_range: float, projection: np.ndarray | None = None):
         self.req = req
         self.cls_name = cls_name
-        self.seed = seed
         k = req.group.variable_count
         self._k = range(k)
         with _quiet_ompl():
@@ -1796,9 +1795,10 @@ class _TurnSearch:
 
     ``max_checks``: the search ends (without a path) after that many state checks.
 
-    Each planner's random generators are seeded when it is made (:class:`_OMPLRun`), and OMPL
-    makes their samplers in their first turn, so what a turn draws does not depend on other
-    searches run in between (a race in turns draws as a race side by side).
+    Each planner is made (:class:`_OMPLRun`, which seeds OMPL's generator) right before its
+    first turn, where OMPL draws its samplers' seeds; later turns draw none. So what a search
+    draws does not depend on other searches run in between: a race in turns draws as a race
+    side by side.
     """
 
     def __init__(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
@@ -1811,7 +1811,8 @@ class _TurnSearch:
         self._start_checks = req.checker.states_checked
         self._max_checks = max_checks
         self._limit = None if max_checks is None else self._start_checks + max_checks
-        self._runs = [_OMPLRun(req, x_start, goals, cls_name, seed, planner_range)]
+        self._seed = seed
+        self._runs: list[_OMPLRun] = []
         self._cls_name = cls_name
         self.turn = 0
 
@@ -1831,10 +1832,11 @@ class _TurnSearch:
             if checker.states_checked >= self._limit:
                 return None, _out_of_checks(self._max_checks, f"{cls_name}, {FALLBACK_PLANNER}"), cls_name
             budget = min(budget, self._limit - checker.states_checked)
-        if turn == 1:
-            self._runs.append(_OMPLRun(req, self._x_start, self._goals, FALLBACK_PLANNER,
-                                       self._runs[0].seed + 104729, self._range,
-                                       _wedged_goal_projection(req, self._goals[0])))
+        if turn == 0:
+            self._runs.append(_OMPLRun(req, self._x_start, self._goals, cls_name, self._seed, self._range))
+        elif turn == 1:
+            self._runs.append(_OMPLRun(req, self._x_start, self._goals, FALLBACK_PLANNER, self._seed + 104729,
+                                       self._range, _wedged_goal_projection(req, self._goals[0])))
         run = self._runs[turn % 2]
         name = run.cls_name
         partial = turn % 2 == 1 and turn // 2 >= FALLBACK_PARTIAL_TURN
