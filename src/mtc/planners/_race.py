@@ -101,6 +101,7 @@ def _a_lost(a_clock: int, at_b: int) -> bool:
 
 
 def _b_lost(b_clock: int, at_a: int) -> bool:
+    """Whether ``b`` can no longer end first, ``a`` having ended at ``at_a``."""
     return b_clock >= at_a
 
 
