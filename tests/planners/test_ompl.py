@@ -172,6 +172,27 @@ def test_stuck_rrtconnect_alternates_with_the_fallback_and_both_keep_their_trees
     np.testing.assert_array_equal(traj2.positions, traj.positions)
 
 
+def _plan_in_both_modes(blocked, monkeypatch, seed: int, modes=(False, True)) -> list:
+    """The ``blocked`` problem planned with the race in turns and forked (``modes``: values of
+    ``can_fork``): per mode (positions, race_won_by_second, planner, states_checked)."""
+    from mtc.planners import _race
+
+    scene, start, goal = blocked
+    answers = []
+    for parallel in modes:
+        monkeypatch.setattr(_race, "can_fork", lambda parallel=parallel: parallel)
+        pipeline = OMPLPipeline()
+        result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=20.0, seed=seed)
+        assert result, result.message
+        _assert_collision_free_at(scene, traj, 0.005)
+        stats = pipeline.last_stats
+        answers.append((traj.positions, stats.race_won_by_second, stats.planner, stats.states_checked))
+    for positions, *rest in answers[1:]:
+        np.testing.assert_array_equal(positions, answers[0][0])
+        assert rest == list(answers[0][1:])
+    return answers
+
+
 @pytest.mark.parametrize("seed, second_wins", [(0, True), (3, False)])
 def test_a_stuck_search_races_a_second_one_with_one_answer_wherever_it_runs(blocked, monkeypatch, seed, second_wins):
     """After RACE_TURN turns without a path a second search (other seeds) races the first;
@@ -180,7 +201,6 @@ def test_a_stuck_search_races_a_second_one_with_one_answer_wherever_it_runs(bloc
     one answer."""
     from mtc.planners import _race
 
-    scene, start, goal = blocked
     monkeypatch.setattr(op, "FALLBACK_CHECKS", 1)  # turns of 1, 8, 4, 32, ... checks
     ran = []
     for name in ("_forked", "_in_turns"):
@@ -191,20 +211,9 @@ def test_a_stuck_search_races_a_second_one_with_one_answer_wherever_it_runs(bloc
             return real(*args)
 
         monkeypatch.setattr(_race, name, spy)
-    answers = []
     modes = [False] + ([True] if sys.platform.startswith("linux") else [])
-    for parallel in modes:
-        monkeypatch.setattr(_race, "can_fork", lambda parallel=parallel: parallel)
-        pipeline = OMPLPipeline()
-        result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=20.0, seed=seed)
-        assert result, result.message
-        _assert_collision_free_at(scene, traj, 0.005)
-        stats = pipeline.last_stats
-        answers.append((traj.positions, stats.race_won_by_second, stats.planner, stats.states_checked))
+    answers = _plan_in_both_modes(blocked, monkeypatch, seed, modes)
     assert ran == ["_in_turns", "_forked"][: len(modes)]
-    for positions, *rest in answers[1:]:
-        np.testing.assert_array_equal(positions, answers[0][0])
-        assert rest == list(answers[0][1:])
     # which search wins depends on the seed (here: the second at seed 0, the first at seed 3)
     assert answers[0][1] == second_wins
 
@@ -215,21 +224,10 @@ def test_the_race_draws_alike_in_both_modes_whichever_turn_it_starts_at(blocked,
     """Whatever the first search did before and does between the second one's turns, the
     second one draws the same numbers in turns as in its own process (each planner is made,
     and seeds OMPL's generator, right before its first turn)."""
-    from mtc.planners import _race
-
-    scene, start, goal = blocked
     monkeypatch.setattr(op, "FALLBACK_CHECKS", 1)
     monkeypatch.setattr(op, "RACE_TURN", race_turn)
     for seed in range(6):
-        answers = []
-        for parallel in (False, True):
-            monkeypatch.setattr(_race, "can_fork", lambda parallel=parallel: parallel)
-            pipeline = OMPLPipeline()
-            result, traj = pipeline.plan_joint(scene, start, goal, ARM, timeout=20.0, seed=seed)
-            assert result, result.message
-            answers.append((traj.positions, pipeline.last_stats.states_checked))
-        np.testing.assert_array_equal(answers[0][0], answers[1][0])
-        assert answers[0][1] == answers[1][1]
+        _plan_in_both_modes(blocked, monkeypatch, seed)
 
 
 def test_free_straight_line_is_taken(ready_scene, pipeline):
