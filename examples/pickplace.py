@@ -28,7 +28,11 @@ eef = "hand"
 object_name = "grasp_object"
 
 
-def add_object(position=(0.30702, 0.0, 0.285), yaw: float = 0.0) -> PoseStamped:
+#: The tutorial's box position (world frame) [m].
+OBJECT_POSITION = (0.30702, 0.0, 0.285)
+
+
+def add_object(position=OBJECT_POSITION, yaw: float = 0.0) -> PoseStamped:
     """Clear the current scene and add the box to grasp, turned by ``yaw`` about world z;
     returns its pose."""
     psi = PlanningSceneInterface(synchronous=True)
@@ -59,7 +63,7 @@ def upright() -> Constraints:
     return constraints
 
 
-def make_task(object_position=(0.30702, 0.0, 0.285), object_yaw: float = 0.0,
+def make_task(object_position=OBJECT_POSITION, object_yaw: float = 0.0,
               place_position=(-0.2, -0.6, 0.0), seed: int = 0) -> core.Task:
     """The task: current -> connect -> Pick -> connect (upright) -> Place.
 
