@@ -31,7 +31,8 @@ count as checked states). The speed-up is pyroboplan's median time over mtc's, o
 problems both solved.
 
 Targets (issue 4): every valid problem solved within 1 s; median planning time under 20 ms
-per family; at least 50x faster than pyroboplan.
+per family; at least 50x faster than pyroboplan. Under the table the run says, per target,
+whether it was met and where not (:func:`verdicts`).
 
 Run::
 
@@ -78,6 +79,13 @@ from mtc import msgs  # noqa: E402
 from mtc.planners.ompl_pipeline import OMPLPipeline  # noqa: E402
 
 log = logging.getLogger(__name__)
+
+#: Issue 4's targets: every valid problem solved within this time [s], ...
+TARGET_TIME_S = 1.0
+#: ... a median planning time under this per family [ms], ...
+TARGET_MEDIAN_MS = 20.0
+#: ... and at least this many times faster than pyroboplan (median over median).
+TARGET_SPEEDUP = 50.0
 
 _KIND = {"box": msgs.SolidPrimitive.BOX, "sphere": msgs.SolidPrimitive.SPHERE,
          "cylinder": msgs.SolidPrimitive.CYLINDER, "cone": msgs.SolidPrimitive.CONE}
@@ -295,7 +303,7 @@ def summarize(results: Sequence[dict]) -> dict:
         "max_ms": 1e3 * max(times) if times else float("nan"),
         "length": statistics.median(r["path_length"] for r in solved) if solved else float("nan"),
         "checks_per_s": sum(r["checks"] for r in planned) / total_time if total_time > 0 else float("nan"),
-        "within_1s": sum(1 for t in times if t <= 1.0),
+        "within_1s": sum(1 for t in times if t <= TARGET_TIME_S),
         # mtc only: solved paths found free when re-checked at DENSE_STEP
         "dense_free": sum(1 for r in solved if r.get("dense_free")) if any("dense_free" in r for r in solved) else None,
     }
@@ -382,6 +390,32 @@ def run(
     return rows
 
 
+def verdicts(rows: Sequence[dict]) -> list[str]:
+    """One line per target of issue 4: met, or missed and where (families and problems), for
+    the rows of :func:`run`. A problem not solved counts as not solved within the time."""
+    slow = [f"{r['problem']} ({'%.0f ms' % (1e3 * r['time_s']) if r['success'] else 'not solved'})"
+            for row in rows for r in row["mtc_results"]
+            if not r["status"].startswith("invalid") and not (r["success"] and r["time_s"] <= TARGET_TIME_S)]
+    planned = sum(row["mtc"]["planned"] for row in rows)
+    lines = [f"every valid problem solved within {TARGET_TIME_S:g} s: "
+             + (f"met ({planned} of {planned})" if not slow
+                else f"missed by {len(slow)} of {planned}: {', '.join(slow)}")]
+    medians = [(row["family"], row["mtc"]["median_ms"]) for row in rows if row["mtc"]["solved"]]
+    over = [f"{fam} ({ms:.1f} ms)" for fam, ms in medians if not ms < TARGET_MEDIAN_MS]
+    lines.append(f"median under {TARGET_MEDIAN_MS:g} ms per family: "
+                 + ("no family solved anything" if not medians else
+                    f"met ({len(medians)} families)" if not over else f"missed on {', '.join(over)}"))
+    ratios = [(row["family"], row["speedup"]) for row in rows if np.isfinite(row.get("speedup", np.nan))]
+    shown = {fam: f"{np.floor(10 * x) / 10:.1f}x" for fam, x in ratios}  # (49.97 is not shown as 50.0)
+    short = [f"{fam} ({shown[fam]})" for fam, x in ratios if not x >= TARGET_SPEEDUP]
+    fast = [f"{fam} ({shown[fam]})" for fam, x in ratios if x >= TARGET_SPEEDUP]
+    lines.append(f"at least {TARGET_SPEEDUP:g}x faster than pyroboplan: "
+                 + ("not measured (no baseline results)" if not ratios else
+                    "met on every family" if not short else
+                    f"missed on {', '.join(short)}" + (f"; met on {', '.join(fast)}" if fast else "")))
+    return lines
+
+
 def _baseline_available() -> bool:
     try:
         from bench import baseline_pyroboplan
@@ -422,6 +456,7 @@ def print_table(rows: Sequence[dict], timeout: float, baseline_timeout: float, s
              if not r["success"]]
     if notes:
         print("\nmtc did not plan or did not solve:", *notes, sep="\n", file=out)
+    print("\ntargets (issue 4):", *(f"- {line}" for line in verdicts(rows)), sep="\n", file=out)
     out.flush()
 
 

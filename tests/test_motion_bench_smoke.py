@@ -227,7 +227,10 @@ def test_default_families_are_every_folder_with_unreadable_problems_reported(tmp
     assert s["n"] == 2 and s["invalid"] == 1 and s["solved"] == 1 and s["dense_free"] == 1
     assert "| kitchen | mtc | 2 | 1 | 1 | 100% |" in out.getvalue()
     assert "mtc did not plan or did not solve:\n- kitchen/0002: invalid: unreadable: " in out.getvalue()
-    assert "has planes" in out.getvalue().splitlines()[-1]
+    (listed,) = [line for line in out.getvalue().splitlines() if line.startswith("- kitchen/0002")]
+    assert "has planes" in listed
+    # the invalid problem is not counted against the targets
+    assert "- every valid problem solved within 1 s: met (1 of 1)" in out.getvalue()
 
 
 def test_generated_families_are_told_apart_from_shipped_ones(tmp_path, monkeypatch):
@@ -297,3 +300,38 @@ def test_a_problem_folder_without_families_is_said(tmp_path, monkeypatch, caplog
         rows = motion_bench.run(table_shelf=0, baseline=False, out=io.StringIO())
     assert rows == []
     assert f"no MotionBenchMaker families under {tmp_path / 'nothing'}" in caplog.text
+
+
+def _result(problem: str, status: str, time_s: float) -> dict:
+    return {"problem": problem, "status": status, "success": status == "solved", "time_s": time_s,
+            "path_length": 1.0, "checks": 100}
+
+
+def _row(family: str, results: list[dict], speedup: float | None = None) -> dict:
+    row = {"family": family, "mtc": motion_bench.summarize(results), "mtc_results": results}
+    if speedup is not None:
+        row["speedup"] = speedup
+    return row
+
+
+def test_verdicts_say_which_target_is_met_and_where_not():
+    met = [_row("box", [_result("box/0001", "solved", 0.004), _result("box/0002", "solved", 0.006)], 61.0),
+           _row("table_pick", [_result("table_pick/0001", "solved", 0.002),
+                               _result("table_pick/0031", "invalid: goal outside the limits", 0.0)], 55.5)]
+    assert motion_bench.verdicts(met) == [
+        "every valid problem solved within 1 s: met (3 of 3)",
+        "median under 20 ms per family: met (2 families)",
+        "at least 50x faster than pyroboplan: met on every family",
+    ]
+    missed = [_row("box", [_result("box/0001", "solved", 0.030), _result("box/0002", "solved", 1.5)], 49.96),
+              _row("cage", [_result("cage/0001", "TIMED_OUT: no solution found", 5.0),
+                            _result("cage/0002", "solved", 0.010)], 80.0)]
+    assert motion_bench.verdicts(missed) == [
+        "every valid problem solved within 1 s: missed by 2 of 4: box/0002 (1500 ms), cage/0001 (not solved)",
+        "median under 20 ms per family: missed on box (765.0 ms)",
+        "at least 50x faster than pyroboplan: missed on box (49.9x); met on cage (80.0x)",
+    ]
+    # without pyroboplan's results the ratio is not claimed either way
+    assert motion_bench.verdicts([_row("box", [_result("box/0001", "solved", 0.004)])])[2] == (
+        "at least 50x faster than pyroboplan: not measured (no baseline results)"
+    )
