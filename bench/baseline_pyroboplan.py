@@ -46,6 +46,8 @@ from bench.problems import (
     Problem,
     example_robot_data_share,
     families,
+    invalid_status,
+    is_planned,
     limit_violations,
     load_family,
     panda_joint_limits,
@@ -239,7 +241,7 @@ def plan_pyroboplan(
     }
     violations = limit_violations(problem)
     if violations:
-        result["status"] = "invalid: " + "; ".join(violations)
+        result["status"] = invalid_status(violations)
         return result
 
     t0 = time.perf_counter()
@@ -295,7 +297,7 @@ def plan_pyroboplan(
 
 def summarize(results: Sequence[dict]) -> dict:
     """Success rate over plannable problems, median time and length of the successes."""
-    planned = [r for r in results if not r["status"].startswith("invalid")]
+    planned = [r for r in results if is_planned(r)]
     solved = [r for r in planned if r["success"]]
     return {
         "n": len(results),

@@ -69,6 +69,8 @@ from bench.problems import (  # noqa: E402
     families as mbm_families,
     Problem,
     generated_problems,
+    invalid_status,
+    is_planned,
     limit_violations,
     load_family,
     panda_joint_limits,
@@ -205,7 +207,7 @@ def run_mtc(model, problem: Problem, timeout: float, seed: int, pipeline: OMPLPi
            "checks": 0, "status": ""}
     violations = limit_violations(problem)
     if violations:
-        out["status"] = "invalid: " + "; ".join(violations)
+        out["status"] = invalid_status(violations)
         return out
     scene = build_scene(model, problem.obstacles, problem.allowed_collisions, finger_opening(problem))
     start, goal = problem_states(scene, problem)
@@ -214,7 +216,7 @@ def run_mtc(model, problem: Problem, timeout: float, seed: int, pipeline: OMPLPi
                  for which, state in (("start", start), ("goal", goal))
                  if (pairs := scene.get_collisions(state, problem.group))]
     if colliding:
-        out["status"] = "invalid: " + "; ".join(colliding)
+        out["status"] = invalid_status(colliding)
         return out
     scene.is_state_colliding()  # build the collision set-up, as a scene in use has it
     t0 = time.perf_counter()
@@ -288,7 +290,7 @@ def run_baseline(problem: Problem, timeout: float, seed: int) -> dict | None:
 
 def summarize(results: Sequence[dict]) -> dict:
     """Success rate over the plannable problems, time percentiles and lengths of the solved."""
-    planned = [r for r in results if not r["status"].startswith("invalid")]
+    planned = [r for r in results if is_planned(r)]
     solved = [r for r in planned if r["success"]]
     times = [r["time_s"] for r in solved]
     total_time = sum(r["time_s"] for r in planned)
@@ -369,7 +371,7 @@ def run(
             m_res.append(r)
             if not have_baseline:
                 b = None
-            elif r["status"].startswith("invalid"):  # not planned by either planner
+            elif not is_planned(r):  # not planned by either planner
                 b = dict(r)
             else:
                 b = run_baseline(p, baseline_timeout, seed)
@@ -395,7 +397,7 @@ def verdicts(rows: Sequence[dict]) -> list[str]:
     the rows of :func:`run`. A problem not solved counts as not solved within the time."""
     slow = [f"{r['problem']} ({'%.0f ms' % (1e3 * r['time_s']) if r['success'] else 'not solved'})"
             for row in rows for r in row["mtc_results"]
-            if not r["status"].startswith("invalid") and not (r["success"] and r["time_s"] <= TARGET_TIME_S)]
+            if is_planned(r) and not (r["success"] and r["time_s"] <= TARGET_TIME_S)]
     planned = sum(row["mtc"]["planned"] for row in rows)
     lines = [f"every valid problem solved within {TARGET_TIME_S:g} s: "
              + (f"met ({planned} of {planned})" if not slow

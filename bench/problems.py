@@ -251,6 +251,18 @@ def limit_violations(problem: Problem, limits: dict[str, tuple[float, float]] | 
     return out
 
 
+def invalid_status(reasons: Sequence[str]) -> str:
+    """The status of a benchmark result for a problem not planned, e.g. for
+    :func:`limit_violations`' lines (see :func:`is_planned`)."""
+    return "invalid: " + "; ".join(reasons)
+
+
+def is_planned(result: dict) -> bool:
+    """Whether a benchmark result (a dict with a ``status``) is for a problem that was planned,
+    not one reported invalid (:func:`invalid_status`)."""
+    return not result["status"].startswith("invalid: ")
+
+
 # ---------------------------------------------------------------------------------------------
 # MotionBenchMaker loader
 
