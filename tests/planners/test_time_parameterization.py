@@ -332,6 +332,52 @@ def test_cartesian_speed_limit(panda):
     assert np.all(idx == np.arange(7))
 
 
+def _random_walk(panda, seed):
+    """A random walk of the arm (about 0.3 rad per joint and step, sharp corners) and random
+    scaling factors."""
+    rng = np.random.default_rng(seed)
+    idx = panda.get_joint_model_group("panda_arm").variable_indices
+    start = _ready(panda)
+    steps = rng.normal(0.0, 0.3, (int(rng.integers(5, 40)), 7))
+    P = np.clip(start.get_joint_group_positions("panda_arm") + np.cumsum(steps, axis=0),
+                panda.lower_bounds[idx], panda.upper_bounds[idx])
+    vs, acs = float(rng.choice([1.0, 0.5, 0.1])), float(rng.choice([1.0, 0.5, 0.2]))
+    return RobotTrajectory.from_positions(panda, "panda_arm", start, P), vs, acs
+
+
+def test_random_walks_keep_the_limits_between_waypoints_and_never_stall(panda):
+    """The forward pass takes each point's speed as high as it can. Where that leaves the next
+    point less room (sharp corners, a coarse grid), it used to be forced to a stop: the leg
+    after it was crossed in no time (up to 2x the velocity limit on average) or in 1e7 s."""
+    worst_speed = worst_time = 0.0
+    for seed in range(500):
+        traj, vs, acs = _random_walk(panda, seed)
+        time_parameterize(traj, vs, acs)
+        vmax, amax = _limits(panda, vs, acs)
+        step = np.abs(np.diff(traj.positions, axis=0))
+        dt = np.diff(traj.times)
+        assert np.all(dt > 0)
+        worst_speed = max(worst_speed, float((step / dt[:, None] / vmax).max()))
+        # each leg within a few times what the joint that moves most needs from rest to rest
+        rest_to_rest = (step / vmax).max(axis=1) + 2.0 * np.sqrt((step / amax).max(axis=1))
+        worst_time = max(worst_time, float((dt / rest_to_rest).max()))
+    assert worst_speed <= 1.005
+    assert worst_time <= 3.0
+
+
+@pytest.mark.parametrize("turn", [0.025, 0.028])
+def test_a_short_leg_back_after_a_long_one(panda, turn):
+    """The fingers out by ``turn`` and back 0.5 mm at 1 % speed: the short last leg takes about
+    its rest-to-rest time (it took 0.14 s at 1.8x the velocity limit, or 681,226 s)."""
+    traj = RobotTrajectory.from_positions(panda, "hand", _ready(panda), np.array([[0.0], [turn], [turn - 0.0005]]))
+    time_parameterize(traj, 0.01)
+    idx = panda.get_joint_model_group("hand").variable_indices
+    vmax, amax = panda.velocity_limits[idx] * 0.01, panda.acceleration_limits[idx]
+    dt = np.diff(traj.times)
+    assert np.all(np.abs(np.diff(traj.positions, axis=0)) / dt[:, None] <= vmax * 1.005)
+    assert dt[-1] <= 4.0 * (0.0005 / vmax[0] + vmax[0] / amax[0])
+
+
 def test_totg_class(panda):
     """TimeOptimalTrajectoryGeneration.computeTimeStamps times in place and reports success."""
     traj = _curved_path(panda, np.random.default_rng(7))
@@ -360,6 +406,34 @@ def test_bad_arguments(panda):
         limit_cartesian_speed(traj, 0.0, "panda_hand")
     with pytest.raises(KeyError, match="unknown frame 'nowhere'"):
         limit_cartesian_speed(traj, 0.1, "nowhere")
+
+
+def test_bad_input_leaves_the_trajectory_as_it_was(panda):
+    """Waypoints that are not finite, a bad grid, a Cartesian speed that is not a number, a
+    scaling factor that is not a number and an unknown link raise before anything changes
+    (repeats were dropped and times cleared before the link was looked up)."""
+    P = _curved_path(panda, np.random.default_rng(9), n=6).positions
+    P = np.vstack((P[:3], P[2:]))  # a repeated waypoint, which a timing removes
+    traj = RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), P)
+    traj.times = np.arange(len(P), dtype=float)
+    bad_rows = P.copy()
+    bad_rows[2, 3] = np.nan
+    nan_traj = RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), bad_rows)
+    with pytest.raises(ValueError, match=r"waypoint 2 has positions that are not finite numbers"):
+        time_parameterize(nan_traj)
+    assert len(nan_traj) == len(P)
+    for grid in (0, -5, 2.5, math.nan, True):
+        with pytest.raises(ValueError, match="grid_points must be a whole number >= 1"):
+            time_parameterize(traj, grid_points=grid)
+    with pytest.raises(ValueError, match="max_cartesian_speed must be a number >= 0"):
+        time_parameterize(traj, 1.0, 1.0, math.nan, "panda_hand")
+    for factor in ("0.5", True):
+        with pytest.raises(ValueError, match="max_velocity_scaling_factor must be a number in"):
+            time_parameterize(traj, factor)
+    with pytest.raises(KeyError, match="unknown frame 'nowhere'"):
+        time_parameterize(traj, 1.0, 1.0, 0.1, "nowhere")
+    assert len(traj) == len(P) and np.array_equal(traj.positions, P)
+    assert np.array_equal(traj.times, np.arange(len(P), dtype=float))
 
 
 def test_synchronized_ptp_is_a_shared_trapezoid():

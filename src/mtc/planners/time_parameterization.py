@@ -16,9 +16,14 @@ velocity; nothing overshoots a bound the waypoints touch). Along the path, ``q̇
 ``(u, x)``. On a grid in ``s`` that contains every waypoint, a backward pass computes the largest
 ``x`` from which the path can still end at rest (the controllable set) and a forward pass then
 takes the largest admissible ``u`` at each grid point (the reachability analysis of TOPP-RA,
-Pham & Pham 2018). Each grid interval is held to the limits at both of its ends (the curvature
-jumps at waypoints). The result is time-optimal on the grid and, by construction, every
-reported velocity and acceleration lies within the scaled limits. Waypoints that lie in order
+Pham & Pham 2018). Each grid interval is held to the acceleration limits at its ends and its
+middle (the curvature jumps at waypoints), and to the velocity limits at its middle through
+the speeds at both of its ends. Taking the largest ``u`` is optimal where a faster point never
+leaves the next one less room; where it would (an acceleration bound that tightens quickly
+with the speed, on a grid coarse for the path's curvature), a point's speed is held to where
+the next point keeps at least half of the most it could reach, so the motion never comes to a
+stop that the path does not call for. By construction, every reported velocity and
+acceleration lies within the scaled limits. Waypoints that lie in order
 on one straight segment (joint interpolation, a gripper's motion) are timed in closed form:
 the optimum there is the trapezoid of the path coordinate that the passes converge to.
 
@@ -41,6 +46,7 @@ from abc import ABC, abstractmethod
 import numpy as np
 import ruckig
 
+from mtc import msgs
 from mtc.scene.robot_trajectory import RobotTrajectory
 
 log = logging.getLogger(__name__)
@@ -58,6 +64,7 @@ __all__ = [
 _EPS_TANGENT = 1e-9  # a joint whose path tangent is smaller than this does not limit ṡ
 _REPEATED = 1e-12  # a waypoint closer than this to the one before it repeats it [rad, m]
 _MIN_PARTS = 2  # grid intervals per waypoint interval, at least
+_NEXT_SHARE = 0.5  # a grid point's speed leaves the next one at least this share of its best (see _time_optimal)
 _STRAIGHT = 1e-9  # off a line by this fraction of the step to the next waypoint: on it (see _straight_line)
 
 
@@ -68,10 +75,9 @@ def check_scaling_factor(name: str, value: float) -> float:
     Raises:
         ValueError: not a number in [0, 1].
     """
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number in (0, 1] (0: the default, 1.0), got {value!r}") from None
+    if not msgs.is_number(value):
+        raise ValueError(f"{name} must be a number in (0, 1] (0: the default, 1.0), got {value!r}")
+    v = float(value)
     if not (0.0 <= v <= 1.0):
         raise ValueError(f"{name} must be in (0, 1] (0: the default, 1.0), got {value!r}")
     return v if v > 0.0 else 1.0
@@ -292,24 +298,21 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
             pp = d1[:, k:]  # (the link's position is C1: its speed bound at the grid points)
             speed2 = (pp**2).sum(axis=1)
             xmax = np.minimum(xmax, np.where(speed2 > 1e-18, vcart * vcart / np.where(speed2 > 0, speed2, 1.0), np.inf))
-        # speeds at the middle of each interval, where x = x_i + Δ u: (q'_m)² (x_i + Δ u) <= v²
-        # for every joint (and the link) bounds u from above, u <= (W - x_i) / Δ, with W the
-        # least of v² / (q'_m)²
+        # speeds at the middle of each interval: there x = (x_i + x_{i+1}) / 2, and (q'_m)² x <= v²
+        # for every joint (and the link) holds where both ends stay below W, the least of
+        # v² / (q'_m)². (The midpoint bound itself, x_i + x_{i+1} <= 2 W, would couple the ends:
+        # the larger x_i, the smaller the largest x_{i+1}, and the forward pass, which takes
+        # each x as large as it can, could then be forced to a stop at the next point.)
         mq = np.abs(mid[:, :k])
         W = np.min(np.where(mq > _EPS_TANGENT, (vmax / np.where(mq > _EPS_TANGENT, mq, 1.0)) ** 2, np.inf), axis=1)
         if P is not None:
             speed2 = (mid[:, k:] ** 2).sum(axis=1)
             W = np.minimum(W, np.where(speed2 > 1e-18, vcart * vcart / np.where(speed2 > 0, speed2, 1.0), np.inf))
-        # ... which leaves room for u >= -c + b x only below (c + W / Δ) / (b + 1 / Δ), and for
-        # x_{i+1} >= 0 (u >= -x_i / 2Δ) only below 2 W
-        inv = 1.0 / delta
-        lower = beta[:-1] + inv
-        room = np.where(lower > 0, (c[:-1] + W[:, None] * inv) / np.where(lower > 0, lower, 1.0), np.inf).min(axis=1)
-        xmax[:-1] = np.minimum(xmax[:-1], np.minimum(room, 2.0 * W))
+        xmax[:-1] = np.minimum(xmax[:-1], W)
+        xmax[1:] = np.minimum(xmax[1:], W)
     if not np.all(np.isfinite(xmax)):
         # a point where nothing limits the speed (the path does not move any joint): cannot be
         xmax = np.where(np.isfinite(xmax), xmax, 0.0)
-    w_rows = np.where(np.isfinite(W), W, 1e300).tolist()
 
     dsa = np.diff(grid)
     ds = dsa.tolist()
@@ -327,6 +330,28 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
     # x_i <= 2Δ c / -(1 + 2Δ b): above it the interval cannot be crossed without stopping
     falling = (slope < 0.0) & np.isfinite(c[:-1])
     crossable = np.where(falling, two_d * c_fin[:-1] / np.where(falling, -slope, 1.0), np.inf).min(axis=1)
+    # the largest x_{i+1} reachable from x_i, the least of the lines x_i (1 + 2Δ b) + 2Δ c, falls
+    # as x_i rises once a falling line (1 + 2Δ b < 0) is the least one. There the forward pass,
+    # which takes each x as large as it can, could leave the next point slow or even stopped:
+    # x_i is held to where the next point keeps _NEXT_SHARE of the most it can reach (that most
+    # at xs, where the least rising line meets the least falling one; the share at xr beyond)
+    hold = np.full(G - 1, np.inf)
+    rows = np.nonzero(falling.any(axis=1))[0]
+    if rows.size:
+        a = two_d[rows] * c_fin[:-1][rows]
+        b = slope[rows]
+        finite = np.isfinite(c[:-1][rows])
+        rising, fall = finite & (b >= 0.0), finite & (b < 0.0)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            # where rising line p and falling line q cross (p below q before, above after)
+            cross = (a[:, None, :] - a[:, :, None]) / (b[:, :, None] - b[:, None, :])
+        cross = np.where(rising[:, :, None] & fall[:, None, :], cross, -np.inf)
+        xs = np.maximum(np.where(fall, cross.max(axis=1), np.inf).min(axis=1), 0.0)
+        top = np.where(finite, a + b * xs[:, None], np.inf).min(axis=1)
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            xr = np.where(fall, (_NEXT_SHARE * top[:, None] - a) / np.where(fall, b, -1.0), np.inf).min(axis=1)
+        hold[rows] = np.maximum(xs, xr)
+    crossable = np.minimum(crossable, hold)
     xm = np.minimum(xmax, np.concatenate((crossable, [np.inf]))).tolist()
 
     # backward pass: largest x at each grid point from which the end (at rest) is reachable
@@ -347,9 +372,6 @@ def _time_optimal(Q, vmax, amax, grid_points, P=None, vcart=0.0, PJ=None):
         two_di = 2.0 * ds[i]
         xi = x[i]
         umax = (xb[i + 1] - xi) / two_di
-        mid_max = 2.0 * (w_rows[i] - xi) / two_di  # the speeds at the interval's middle
-        if mid_max < umax:
-            umax = mid_max
         umin = -math.inf
         for ci, bi in zip(c_rows[i], b_rows[i]):
             bx = bi * xi
@@ -416,16 +438,26 @@ def time_parameterize(
             speed limit without a link.
         KeyError: unknown link.
     """
+    # everything is checked before the trajectory changes
     vs = check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
     acs = check_scaling_factor("max_acceleration_scaling_factor", max_acceleration_scaling_factor)
-    if max_cartesian_speed < 0:
-        raise ValueError(f"max_cartesian_speed must not be negative, got {max_cartesian_speed}")
+    if not msgs.is_number(max_cartesian_speed) or not max_cartesian_speed >= 0:
+        raise ValueError(f"max_cartesian_speed must be a number >= 0 (0: no limit), got {max_cartesian_speed!r}")
+    if not msgs.is_number(grid_points, integral=True) or grid_points < 1:
+        raise ValueError(f"grid_points must be a whole number >= 1, got {grid_points!r}")
     model = trajectory.robot_model
     idx = trajectory.group.variable_indices
     vmax = model.velocity_limits[idx] * vs
     amax = model.acceleration_limits[idx] * acs
-    if max_cartesian_speed > 0 and not cartesian_speed_limited_link:
-        raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
+    if max_cartesian_speed > 0:
+        if not cartesian_speed_limited_link:
+            raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
+        if len(trajectory):
+            trajectory.waypoints[0].get_frame_transform(cartesian_speed_limited_link)  # KeyError: unknown
+    bad = ~np.isfinite(trajectory.positions).all(axis=1)
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"waypoint {i} has positions that are not finite numbers: {trajectory.positions[i].tolist()}")
     # as MoveIt's TOTG (which unwinds the trajectory first): the waypoints take the continuous
     # joints' values the timing is for, without jumps of a full turn
     trajectory.unwind()
