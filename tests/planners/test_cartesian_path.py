@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 
 from mtc import msgs
-from mtc.planners import CartesianPath, CartesianPrecision, PlannerResult
+from mtc.planners import CartesianPath, CartesianPrecision, JointInterpolationPlanner, PlannerResult
 
 
 def _line_target(scene, delta, link="panda_link8", rotation=None):
@@ -38,6 +38,38 @@ def test_precision_value_object():
     assert CartesianPrecision(translational=0.002) == p
     with pytest.raises(ValueError, match="CartesianPrecision.rotational must be a positive number"):
         CartesianPrecision(rotational=0.0)
+
+
+def test_min_fraction_is_a_fraction():
+    """min_fraction takes numbers in [0, 1] (with NaN a blocked line succeeded; below 0 or above 1
+    every line succeeded or failed)."""
+    planner = CartesianPath()
+    for bad in (float("nan"), -0.5, 1.5):
+        with pytest.raises(ValueError, match=r"min_fraction must be a number in \[0, 1\]"):
+            planner.setMinFraction(bad)
+        with pytest.raises(ValueError, match=r"min_fraction must be a number in \[0, 1\]"):
+            planner.min_fraction = bad
+    assert planner.min_fraction == 1.0
+    planner.setMinFraction(0.0)
+    assert planner.min_fraction == 0.0
+
+
+@pytest.mark.parametrize("planner", [CartesianPath, JointInterpolationPlanner])
+def test_pose_arguments_are_checked_where_given(ready_scene, planner):
+    """A target or offset that is not a 4x4 pose, or holds NaN, raises at the call naming the
+    argument (it failed deep inside: a Boost ArgumentError, "cannot convert float NaN to integer")."""
+    T0, T1 = _line_target(ready_scene, [0.0, 0.05, 0.0])
+    nan = T1.copy()
+    nan[0, 3] = np.nan
+    with pytest.raises(TypeError, match=r"target must be a 4x4 pose matrix, a pin.SE3 or a msgs.Pose, not ndarray of shape \(3, 3\)"):
+        planner().plan_to_pose(ready_scene, "panda_link8", np.eye(4), np.eye(3), "panda_arm", 1.0)
+    with pytest.raises(TypeError, match=r"offset must be a 4x4 pose matrix"):
+        planner().plan_to_pose(ready_scene, "panda_link8", np.eye(3), T1, "panda_arm", 1.0)
+    with pytest.raises(ValueError, match="target must hold finite numbers"):
+        planner().plan_to_pose(ready_scene, "panda_link8", np.eye(4), nan, "panda_arm", 1.0)
+    # the other forms of a pose are taken as such
+    result, _ = planner().plan_to_pose(ready_scene, "panda_link8", pin.SE3.Identity(), msgs.matrix_to_pose(T1), "panda_arm", 1.0)
+    assert result
 
 
 def test_defaults_and_setters():

@@ -9,6 +9,7 @@ import pytest
 from mtc import msgs
 from mtc.planners import PipelinePlanner
 from mtc.planners.pilz import CartesianLimits
+from mtc.scene.planning_scene import PlanningScene
 
 ARM = "panda_arm"
 
@@ -120,6 +121,20 @@ def test_ptp_collision_on_the_way(ready_scene, add_box):
     assert np.allclose(traj.velocities[-1], 0)
 
 
+def test_ptp_waypoints_are_at_most_max_joint_step_apart(ready_scene):
+    """The waypoints are the states checked for collisions: no joint moves more than
+    ``max_joint_step`` between two of them, also at the trapezoid's top speed (they were spaced
+    by the mean speed, up to 0.097 rad apart for 0.05)."""
+    goal = ready_scene.diff()
+    goal.current_state.set_to_default_values(ARM, "extended")
+    planner = _pilz("PTP")
+    result, traj = planner.plan(ready_scene, goal, ARM, 1.0)
+    assert result
+    steps = np.abs(np.diff(traj.positions, axis=0))
+    assert steps.max() <= 0.05 + 1e-9
+    assert steps.max() >= 0.04  # and not needlessly finer
+
+
 def test_ptp_start_and_goal_checks(ready_scene, add_box):
     """A colliding start or goal, and a goal out of bounds, fail with MoveIt's code names."""
     goal = _goal(ready_scene, panda_joint1=1.0)
@@ -216,6 +231,56 @@ def test_lin_slows_down_for_the_joint_limits(panda, ready_scene):
     vmax, amax = _limits(panda)
     ratio = max(np.max(np.abs(traj.velocities) / vmax), np.max(np.abs(traj.accelerations) / amax))
     assert ratio <= 1.0 + 1e-6
+
+
+def test_lin_near_a_singularity_keeps_the_limits_between_waypoints(panda):
+    """Close to a singularity two joints swing far between two close waypoints: the timing
+    holds them to their limits on average over each step too, not only at the waypoints
+    (joint 1 needed 1.14x its scaled velocity limit there)."""
+    scene = PlanningScene(panda)
+    scene.current_state.set_to_default_values("hand", "open")
+    scene.current_state.set_joint_group_positions(ARM, [
+        -0.5044011207567505, 0.0408166147101221, 1.4868855559567487, -0.20355185426581546,
+        2.8151223636365583, 2.18321589956845, 0.15390502323941124])
+    target = np.array([
+        [0.6930185424077862, -0.6018904335180202, -0.39680373727886836, 0.29471331708372517],
+        [0.5534233571936339, 0.7969010324870621, -0.2422216590926209, 0.0051078621865958],
+        [0.46200420733096675, -0.05173635530788824, 0.885367416357718, 1.1343467289174867],
+        [0.0, 0.0, 0.0, 1.0]])
+    vs, acs = 0.04176028803034605, 0.5759259708239887
+    result, traj = _pilz("LIN", vs, acs).plan_to_pose(scene, "panda_link8", np.eye(4), target, ARM, 5.0)
+    assert result
+    vmax, amax = _limits(panda, vs, acs)
+    dt = np.diff(traj.times)[:, None]
+    assert np.max(np.abs(np.diff(traj.positions, axis=0)) / dt / vmax) <= 1.0 + 1e-6
+    assert np.max(np.abs(np.diff(traj.velocities, axis=0)) / dt / amax) <= 1.0 + 1e-6
+    assert np.max(np.abs(traj.velocities) / vmax) <= 1.0 + 1e-6
+
+
+@pytest.mark.parametrize("pid", ["LIN", "PTP"])
+def test_a_cartesian_speed_limit_only_slows_a_motion_down(ready_scene, pid):
+    """max_cartesian_speed above the link's speed leaves Pilz's timing as it is (re-timing made a
+    LIN faster than Pilz's own Cartesian limit); below it, the motion is stretched until the
+    link keeps it."""
+    T1 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1[:3, 3] += [0.0, 0.25, -0.1]
+
+    def plan(speed):
+        planner = _pilz(pid, 0.1)
+        planner.max_cartesian_speed = speed
+        result, traj = planner.plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 5.0)
+        assert result
+        return traj
+
+    own = plan(0.0)
+    loose = plan(0.5)
+    assert np.array_equal(loose.times, own.times) and np.array_equal(loose.positions, own.positions)
+    fastest = (np.linalg.norm(np.diff(_tip_positions(own), axis=0), axis=1) / np.diff(own.times)).max()
+    tight = plan(0.5 * fastest)
+    speed = np.linalg.norm(np.diff(_tip_positions(tight), axis=0), axis=1) / np.diff(tight.times)
+    assert speed.max() <= 0.5 * fastest * (1 + 1e-9)
+    assert tight.duration == pytest.approx(2.0 * own.duration, rel=0.05)
+    assert np.array_equal(tight.positions, own.positions)
 
 
 def test_lin_ik_failure(ready_scene):
@@ -334,6 +399,27 @@ def test_circ_input_errors(ready_scene):
         ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("center", colinear)
     )
     assert result.message == "INVALID_MOTION_PLAN: CIRC: start, goal and center are colinear, the circle's plane is undefined"
+
+
+def test_a_target_or_circ_point_that_is_not_finite_is_refused(ready_scene):
+    """A NaN target raises at the call (it came back as a success that did not move); a NaN
+    CIRC point fails the plan (it also succeeded, 8.7 cm short of the target)."""
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    bad = T0.copy()
+    bad[0, 3] = np.nan
+    for pid in ("LIN", "PTP", "CIRC"):
+        with pytest.raises(ValueError, match="target must hold finite numbers"):
+            _pilz(pid).plan_to_pose(ready_scene, "panda_link8", np.eye(4), bad, ARM, 1.0)
+    with pytest.raises(TypeError, match="target must be a 4x4 pose matrix"):
+        _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), np.eye(3), ARM, 1.0)
+    T1 = T0.copy()
+    T1[:3, 3] += [0.05, 0.05, -0.05]
+    for kind in ("interim", "center"):
+        result, _ = _pilz("CIRC").plan_to_pose(
+            ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints(kind, [np.nan, 0.0, 0.5])
+        )
+        assert not result
+        assert result.message.startswith(f"INVALID_MOTION_PLAN: CIRC {kind} point: its position must be finite")
 
 
 def test_circ_point_in_a_link_frame(ready_scene):

@@ -77,6 +77,17 @@ def finite(name: str, hint: str = "") -> Callable[[Any], Any]:
     return convert
 
 
+def fraction(name: str) -> Callable[[Any], Any]:
+    """A property converter: a number must lie in [0, 1] (NaN does not)."""
+
+    def convert(value):
+        if msgs.is_number(value) and not 0.0 <= value <= 1.0:
+            raise ValueError(f"{name} must be a number in [0, 1], got {value!r}")
+        return value
+
+    return convert
+
+
 def valid_message(name: str) -> Callable[[Any], Any]:
     """A property converter: a message must hold its declared field types and finite numbers
     (:func:`mtc.msgs.validate`), so a NaN pose is refused when set, not when planning."""

@@ -22,9 +22,15 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
-from mtc.core.properties import positive, valid_message
+from mtc.core.properties import fraction, positive, valid_message
 from mtc.planners import ik
-from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult, to_pose_stamped
+from mtc.planners.planner_interface import (
+    PathValidity,
+    PlannerInterface,
+    PlannerResult,
+    pose_argument,
+    to_pose_stamped,
+)
 from mtc.scene.frames import FrameError, resolve_ik_frame, rigid_inverse
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_trajectory import RobotTrajectory
@@ -85,7 +91,7 @@ class CartesianPath(PlannerInterface):
                   type=msgs.PoseStamped, convert=valid_message("ik_frame"))
         p.declare("step_size", 0.01, "step size between consecutive waypoints", convert=positive("step_size"))
         p.declare("precision", CartesianPrecision(), "precision of linear path")
-        p.declare("min_fraction", 1.0, "fraction of motion required for success")
+        p.declare("min_fraction", 1.0, "fraction of motion required for success", convert=fraction("min_fraction"))
         p.declare("kinematics_options", None, "KinematicsQueryOptions")
 
     # ------------------------------------------------------------------ MTC setters
@@ -153,6 +159,7 @@ class CartesianPath(PlannerInterface):
         """Move ``pose(link) · offset`` on a straight line to ``target`` (planning frame)."""
         props = self.properties
         jmg = self._group(from_scene, group)
+        offset, target = pose_argument(offset, "offset"), pose_argument(target, "target")
         step_size = float(props.get("step_size"))  # (> 0: checked when set)
         precision: CartesianPrecision = props.get("precision")
         min_fraction = float(props.get("min_fraction"))
@@ -163,13 +170,13 @@ class CartesianPath(PlannerInterface):
 
         start = from_scene.current_state.copy()
         ik_link, tip_offset = ik.resolve_tip(start, jmg.name, link)
-        frame_offset = tip_offset @ np.asarray(offset, dtype=float)
+        frame_offset = tip_offset @ offset
         inv_offset = pin.SE3(rigid_inverse(frame_offset))
         solver = ik.get_ik_solver(start.robot_model, jmg.name, ik_link)
         to_frame = pin.SE3(frame_offset)
 
         T0 = solver.forward(start.positions) * to_frame
-        T1 = pin.SE3(np.asarray(target, dtype=float))
+        T1 = pin.SE3(target)
         p0, p1 = T0.translation.copy(), T1.translation.copy()
         quat0 = pin.Quaternion(T0.rotation)
         quat1 = pin.Quaternion(T1.rotation)

@@ -15,7 +15,7 @@ import numpy as np
 from mtc import msgs
 from mtc.core.properties import positive
 from mtc.planners import ik
-from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult
+from mtc.planners.planner_interface import PathValidity, PlannerInterface, PlannerResult, pose_argument
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_model import shortest_delta, unwrap_path
 from mtc.scene.robot_state import RobotState
@@ -132,6 +132,7 @@ class JointInterpolationPlanner(PlannerInterface):
         """Solve IK for the target (collision-free, within the path constraints), then
         interpolate to it in joint space."""
         jmg = self._group(from_scene, group)
+        offset, target = pose_argument(offset, "offset"), pose_argument(target, "target")
         timeout = self._effective_timeout(timeout)
         deadline = time.perf_counter() + timeout
         try:
@@ -142,9 +143,9 @@ class JointInterpolationPlanner(PlannerInterface):
         solutions = ik.solve_ik(
             from_scene.current_state,
             jmg.name,
-            np.asarray(target, dtype=float),
+            target,
             tip=link,
-            offset=np.asarray(offset, dtype=float),
+            offset=offset,
             timeout=ik_timeout,
             is_valid=lambda state: validity(state.positions),
             rng=0,

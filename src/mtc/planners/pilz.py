@@ -325,7 +325,8 @@ class PilzPipeline:
         steps = max(
             1,
             math.ceil(duration / self.sampling_time - 1e-9),
-            math.ceil(float(np.abs(delta).max(initial=0.0)) / self.max_joint_step - 1e-9),
+            # no joint moves faster than the common limit: no step between samples is longer
+            math.ceil(duration * float(np.max(vmax)) / self.max_joint_step - 1e-9),
         )
         times = np.linspace(0.0, duration, steps + 1)
         Q, V, A = [], [], []
@@ -369,6 +370,9 @@ class PilzPipeline:
             raise _Failure(error_message("FRAME_TRANSFORM_FAILURE", f"CIRC {pc.name} point: {e}")) from None
         pos = constraint.constraint_region.primitive_poses[0].position
         point = base[:3, :3] @ np.array([pos.x, pos.y, pos.z], dtype=float) + base[:3, 3]
+        if not np.all(np.isfinite(point)):
+            raise _Failure(error_message(
+                "INVALID_MOTION_PLAN", f"CIRC {pc.name} point: its position must be finite, got {point.tolist()}"))
         if pc.name == "center":
             r0, r1 = p0 - point, p1 - point
             radius0, radius1 = float(np.linalg.norm(r0)), float(np.linalg.norm(r1))
@@ -492,28 +496,43 @@ class PilzPipeline:
         ddq = np.gradient(dq, fractions, axis=0)
         vmax = model.velocity_limits[idx] * vs
         amax = model.acceleration_limits[idx] * acs
-        times, V, A = self._time_path(dq, ddq, fractions, v_s, a_s, vmax, amax)
+        times, V, A = self._time_path(P, dq, ddq, fractions, v_s, a_s, vmax, amax)
         return PlannerResult(True, ""), self._trajectory(start, jmg, Q, times, V, A)
 
     @staticmethod
-    def _time_path(dq, ddq, fractions, v_s, a_s, vmax, amax):
-        """Times, velocities and accelerations of the waypoints at ``fractions`` under a
+    def _time_path(P, dq, ddq, fractions, v_s, a_s, vmax, amax):
+        """Times, velocities and accelerations of the waypoints ``P`` at ``fractions`` under a
         symmetric trapezoid of the fraction; the trapezoid's limits shrink until the joints keep
-        theirs (MoveIt's Pilz fails where the joint limits would be violated)."""
+        theirs (MoveIt's Pilz fails where the joint limits would be violated): at the waypoints,
+        and on average over each step between two of them (from the positions and from the
+        velocities: near a singularity a joint can swing far between two close waypoints)."""
+        step = np.abs(np.diff(P, axis=0))
+
+        def ratios(times, V, A):
+            rv = float(np.max(np.abs(V) / vmax))
+            ra = float(np.max(np.abs(A) / amax))
+            if len(step):
+                dt = np.diff(times)[:, None]
+                moving = dt > 0.0
+                rv = max(rv, float(np.max(np.where(moving, step / np.where(moving, dt, 1.0), 0.0) / vmax)))
+                dv = np.abs(np.diff(V, axis=0))
+                ra = max(ra, float(np.max(np.where(moving, dv / np.where(moving, dt, 1.0), 0.0) / amax)))
+            return rv, ra
+
         for _ in range(8):
             profile = TrapezoidProfile(1.0, v_s, a_s)
             times = np.array([profile.time_at(float(s)) for s in fractions])
             S = np.array([profile.at_time(t) for t in times])
             V = dq * S[:, 1:2]
             A = ddq * S[:, 1:2] ** 2 + dq * S[:, 2:3]
-            rv = float(np.max(np.abs(V) / vmax))
-            ra = float(np.max(np.abs(A) / amax))
+            rv, ra = ratios(times, V, A)
             if rv <= 1.0 + 1e-9 and ra <= 1.0 + 1e-9:
                 return times, V, A
             if rv > 1.0:
                 v_s /= rv * (1.0 + 1e-6)
             if ra > 1.0:
                 a_s /= ra * (1.0 + 1e-6)
-        # still too fast (curvature terms): stretch time uniformly, which scales V by 1/λ, A by 1/λ²
+        # still too fast (curvature terms): stretch time uniformly, which scales V (and the mean
+        # speeds) by 1/λ, A (and the mean accelerations) by 1/λ²
         scale = max(1.0, rv, math.sqrt(ra)) * (1.0 + 1e-9)
         return times * scale, V / scale, A / (scale * scale)

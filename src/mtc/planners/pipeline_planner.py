@@ -6,8 +6,8 @@ Pipelines are registered by name, each implemented in one module and imported on
   as MoveIt's (``"RRTConnectkConfigDefault"``) or OMPL's (``"RRTConnect"``). Its geometric path
   is timed here with the planner's scaling factors.
 * ``"pilz_industrial_motion_planner"``: ``"PTP"``, ``"LIN"``, ``"CIRC"``
-  (:mod:`mtc.planners.pilz`), which time their motions themselves (re-timed along the same path
-  when ``max_cartesian_speed`` is set).
+  (:mod:`mtc.planners.pilz`), which time their motions themselves (slowed down as a whole where
+  the link would move faster than ``max_cartesian_speed``, never sped up).
 
 An unknown pipeline or planner id makes ``init()`` raise ``ValueError`` listing the known ones.
 """
@@ -21,7 +21,8 @@ import numpy as np
 
 from mtc import msgs
 from mtc.core.properties import non_negative, unsigned_int
-from mtc.planners.planner_interface import PlannerInterface, PlannerResult
+from mtc.planners.planner_interface import PlannerInterface, PlannerResult, pose_argument
+from mtc.planners.time_parameterization import slow_to_cartesian_speed
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_model import RobotModel
 from mtc.scene.robot_trajectory import RobotTrajectory
@@ -202,13 +203,12 @@ class PipelinePlanner(PlannerInterface):
     ) -> tuple[PlannerResult, RobotTrajectory | None]:
         """Plan until ``pose(link) · offset == target`` (planning frame)."""
         jmg = self._group(from_scene, group)
+        offset, target = pose_argument(offset, "offset"), pose_argument(target, "target")
         error = self._ready(from_scene)
         if error:
             return PlannerResult(False, error), None
         props = self.properties
         timeout = self._effective_timeout(timeout)
-        offset = np.asarray(offset, dtype=float)
-        target = np.asarray(target, dtype=float)
         if self._pipeline_id == "ompl":
             result, traj = self._pipeline.plan_pose(
                 from_scene,
@@ -242,10 +242,15 @@ class PipelinePlanner(PlannerInterface):
         ))
 
     def _cartesian_speed(self, result, traj):
-        # Pilz times its own motions; a Cartesian speed limit (applied after planning, as MoveIt's
-        # pipeline does) re-times them along the same path
-        if result and traj is not None and len(traj) > 0 and self.properties.get("max_cartesian_speed") > 0:
-            return self._timing_result(result, traj)
+        # Pilz times its own motions under its Cartesian and joint limits; a Cartesian speed
+        # limit (applied after planning, as MoveIt's pipeline does) only ever slows one down:
+        # stretched in time as a whole, its profile keeps its shape and every limit it kept
+        if result and traj is not None and len(traj) > 0:
+            speed, link, error = self._speed_limit(traj)
+            if error:
+                return PlannerResult(False, error), traj
+            if speed > 0 and link:
+                slow_to_cartesian_speed(traj, speed, link)
         return result, traj
 
     def _timed(self, result, traj):

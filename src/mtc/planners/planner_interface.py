@@ -77,6 +77,31 @@ def _scaling(name: str):
     return convert
 
 
+def pose_argument(pose, what: str) -> np.ndarray:
+    """A pose argument of ``plan_to_pose`` (an offset or target) as a 4x4 float array: a 4x4
+    array (or nested sequence), a ``pin.SE3`` or a ``msgs.Pose``.
+
+    Raises:
+        TypeError: anything else.
+        ValueError: numbers that are not finite.
+    """
+    if isinstance(pose, msgs.Pose):
+        T = msgs.pose_to_matrix(pose)
+    elif hasattr(pose, "homogeneous"):  # pin.SE3
+        T = np.asarray(pose.homogeneous, dtype=float)
+    else:
+        try:
+            T = np.asarray(pose, dtype=float)
+        except (TypeError, ValueError):
+            T = None
+        if T is None or T.shape != (4, 4):
+            shape = "" if T is None else f" of shape {T.shape}"
+            raise TypeError(f"{what} must be a 4x4 pose matrix, a pin.SE3 or a msgs.Pose, not {type(pose).__name__}{shape}")
+    if not np.all(np.isfinite(T)):
+        raise ValueError(f"{what} must hold finite numbers, got {T.tolist()}")
+    return T
+
+
 def to_pose_stamped(pose, link: str | None = None) -> msgs.PoseStamped:
     """An IK frame as ``msgs.PoseStamped`` from MTC's ``setIKFrame`` overloads: a PoseStamped;
     a pose (4x4 or ``msgs.Pose``) with a link; or a link name alone (identity pose).
@@ -288,36 +313,47 @@ class PlannerInterface(TypedPropertyAccess, ABC):
     def _group(self, scene: PlanningScene, group) -> JointModelGroup:
         return scene.robot_model.get_joint_model_group(group)
 
-    def _apply_timing(self, trajectory: RobotTrajectory) -> str | None:
-        """Time a trajectory with the planner's scaling factors, or, when a Cartesian speed
-        limit is set, time-optimally under both joint limits and that limit.
-
-        Returns:
-            None, or why the trajectory could not be timed (the plan then fails, as MoveIt's
-            Cartesian speed adapter fails it): a speed-limited link the waypoints do not have.
-        """
-        props = self._properties
-        vs = props.get("max_velocity_scaling_factor")
-        acs = props.get("max_acceleration_scaling_factor")
-        speed = props.get("max_cartesian_speed")
-        if speed > 0:
-            link = props.get("cartesian_speed_limited_link")
-            if not link:
-                # MoveIt's limitMaxCartesianLinkSpeed limits the group's end-effector tip then
-                # (mtc: the first, where a group has several)
-                tips = trajectory.group.end_effector_tips
-                link = tips[0] if tips else ""
-            if link:
-                if len(trajectory) and not trajectory[0].knows_frame_transform(link):
-                    return (f"Limiting Cartesian speed for the solution path failed: unknown link '{link}' "
-                            "(cartesian_speed_limited_link names neither a link of the robot nor an attached frame)")
-                limit_cartesian_speed(trajectory, speed, link, vs, acs)
-                return None
+    def _speed_limit(self, trajectory: RobotTrajectory) -> tuple[float, str, str | None]:
+        """(speed, link, error) of the planner's Cartesian speed limit on the trajectory: speed 0
+        or no link for none; error (the plan then fails, as MoveIt's Cartesian speed adapter
+        fails it) where the link is one the waypoints do not have."""
+        speed = self._properties.get("max_cartesian_speed")
+        if not speed > 0:
+            return 0.0, "", None
+        link = self._properties.get("cartesian_speed_limited_link")
+        if not link:
+            # MoveIt's limitMaxCartesianLinkSpeed limits the group's end-effector tip then
+            # (mtc: the first, where a group has several)
+            tips = trajectory.group.end_effector_tips
+            link = tips[0] if tips else ""
+        if not link:
             log.warning(
                 "max_cartesian_speed is set but neither cartesian_speed_limited_link nor an "
                 "end-effector tip of group '%s' names a link to limit: timing without it",
                 trajectory.group.name,
             )
+        elif len(trajectory) and not trajectory[0].knows_frame_transform(link):
+            return speed, link, (
+                f"Limiting Cartesian speed for the solution path failed: unknown link '{link}' "
+                "(cartesian_speed_limited_link names neither a link of the robot nor an attached frame)")
+        return speed, link, None
+
+    def _apply_timing(self, trajectory: RobotTrajectory) -> str | None:
+        """Time a trajectory with the planner's scaling factors, or, when a Cartesian speed
+        limit is set, time-optimally under both joint limits and that limit.
+
+        Returns:
+            None, or why the trajectory could not be timed (see :meth:`_speed_limit`).
+        """
+        props = self._properties
+        vs = props.get("max_velocity_scaling_factor")
+        acs = props.get("max_acceleration_scaling_factor")
+        speed, link, error = self._speed_limit(trajectory)
+        if error:
+            return error
+        if speed > 0 and link:
+            limit_cartesian_speed(trajectory, speed, link, vs, acs)
+            return None
         timing = props.get("time_parameterization", None)
         if timing is not None and len(trajectory) > 0:
             timing.computeTimeStamps(trajectory, vs, acs)

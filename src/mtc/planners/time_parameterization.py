@@ -56,6 +56,7 @@ __all__ = [
     "TimeOptimalTrajectoryGeneration",
     "time_parameterize",
     "limit_cartesian_speed",
+    "slow_to_cartesian_speed",
     "synchronized_ptp",
     "TrapezoidProfile",
     "check_scaling_factor",
@@ -501,6 +502,39 @@ def limit_cartesian_speed(
     return time_parameterize(
         trajectory, max_velocity_scaling_factor, max_acceleration_scaling_factor, max_speed, link
     )
+
+
+def slow_to_cartesian_speed(trajectory: RobotTrajectory, max_speed: float, link: str) -> RobotTrajectory:
+    """Slow a timed trajectory down (in place) so that ``link`` moves no faster than
+    ``max_speed`` [m/s], at its waypoints and on average between them: its times are stretched
+    by one factor, which divides its velocities by it and its accelerations by its square (a
+    trajectory within its limits stays within them). One that keeps the limit is left as it is.
+
+    Raises:
+        ValueError: ``max_speed`` is not positive.
+        KeyError: unknown link.
+    """
+    if not max_speed > 0:
+        raise ValueError(f"max_speed must be positive, got {max_speed}")
+    if len(trajectory) < 2:
+        return trajectory
+    P, PJ = _link_positions(trajectory, link)
+    times = np.asarray(trajectory.times, dtype=float)
+    fastest = 0.0
+    if trajectory.velocities is not None:
+        fastest = float(np.linalg.norm(np.einsum("nij,nj->ni", PJ, trajectory.velocities), axis=1).max())
+    dt = np.diff(times)
+    moving = dt > 0.0
+    if moving.any():
+        fastest = max(fastest, float((np.linalg.norm(np.diff(P, axis=0), axis=1)[moving] / dt[moving]).max()))
+    factor = fastest / max_speed
+    if factor > 1.0:
+        trajectory.times = times * factor
+        if trajectory.velocities is not None:
+            trajectory.velocities = trajectory.velocities / factor
+        if trajectory.accelerations is not None:
+            trajectory.accelerations = trajectory.accelerations / (factor * factor)
+    return trajectory
 
 
 # ---------------------------------------------------------------------------------------------
