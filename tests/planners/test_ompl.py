@@ -899,3 +899,105 @@ def test_a_goal_with_a_small_clearance_plans(pipeline, ready_scene):
     goal = _state(ready_scene, panda_joint1=0.5, panda_joint2=0.2)
     result, traj = pipeline.plan_joint(ready_scene, start, goal, ARM, timeout=5.0, seed=0)
     assert result, result.message
+
+
+def _boxes_scene(panda, boxes) -> PlanningScene:
+    """A scene with boxes given as (position, quaternion xyzw, size)."""
+    scene = PlanningScene(panda)
+    for i, (p, q, size) in enumerate(boxes):
+        scene.apply_collision_object(msgs.CollisionObject(
+            id=f"box{i}", header=msgs.Header(frame_id="world"),
+            pose=msgs.Pose(position=msgs.Point(*p), orientation=msgs.Quaternion(*q)),
+            primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=list(size))],
+            primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))], operation=msgs.CollisionObject.ADD))
+    return scene
+
+
+def test_a_path_that_does_not_join_start_and_goal_is_refused(panda):
+    """AORRTC can report a path from the goal to itself as an exact solution. A repair's
+    sub-search appended it after the start, so the edge it was to replace (in collision) stayed
+    in a successful plan; now such a path is a failure."""
+    scene = _boxes_scene(panda, [
+        ([0.3924028625338971, 0.5044496447478652, 0.377824584693405],
+         [0.0655861135166669, 0.42087147702502714, 0.14327390980687066, 0.8933298653404596],
+         [0.26664950238029794, 0.10880460988471966, 0.1357461197219669]),
+        ([-0.10848621078238489, -0.7388329542144592, 0.7927263414186898], [0.0, 0.0, 0.0, 1.0],
+         [0.252345652493637, 0.16946671933793994, 0.28154958678380604]),
+        ([0.33562944595804595, 0.0759670508948923, 0.8472400219743659],
+         [0.0830310350249328, 0.049428760750990286, -0.3018921987239844, 0.9484322565069727],
+         [0.061630385656753994, 0.1405309523418999, 0.2456869425585112]),
+    ])
+    start = scene.current_state.copy()
+    start.positions = [-0.23783058358170894, 1.0458917987815846, -0.49250249351135356, -1.0872857674078877,
+                       -0.9382106663023533, 3.658831917710227, 2.140499382689375, 0.035, 0.035]
+    a = start.get_joint_group_positions(ARM)
+    b = np.array([0.14192299987400855, 0.21787673730031432, -1.0010648786843634, -0.543456068426132,
+                  0.2109958108973174, 2.1005096513176023, -1.1709434069410416])
+    pipe = OMPLPipeline()
+    req, failure = pipe._prepare(scene, start, ARM, 5.0, None)
+    assert failure is None and not req.checker.edge_ok_fine(a, b)
+    for seed in range(3):
+        path, message = pipe._run_ompl(req, a, [b], "AORRTC", seed, None, 10000)
+        if path is None:
+            assert message == "PLANNING_FAILED: AORRTC returned a path that does not run from the start to a goal"
+        else:
+            np.testing.assert_array_equal(path[0], a)
+            np.testing.assert_array_equal(path[-1], b)
+
+
+def test_prm_with_a_goal_region_returns(panda):
+    """PRM looks for a solution in a second thread, which called the Python state checks for
+    the goal region's further states while the solving thread waited for it holding the GIL:
+    the request never returned. Run in a child process, so that a hang fails the test."""
+    code = textwrap.dedent(
+        """
+        import mtc
+        from mtc import msgs
+        from mtc.planners.ompl_pipeline import OMPLPipeline
+        boxes = [
+            ([0.49715522047341776, 0.34724684829411084, 0.8985736616547766],
+             [0.0, 0.0, 0.0, 1.0],
+             [0.1570557968336447, 0.131449206981521, 0.22260639692736164]),
+            ([0.21441544453911132, 0.34492383854456216, 0.9792110744286652],
+             [-0.7079063577929824, 0.623146783339319, 0.19181971944589013, 0.2715913662873581],
+             [0.18414100262203553, 0.1391205729579315, 0.09559043207713713]),
+            ([-0.4845853044142139, 0.3137927407621144, 0.6239793713405205],
+             [0.0, 0.0, 0.0, 1.0],
+             [0.11291260183677934, 0.19321846232055026, 0.058553406401314415]),
+            ([0.15318084798411974, 0.32251665150290815, 0.11499034527586276],
+             [0.0, 0.0, 0.0, 1.0],
+             [0.2941916912458615, 0.26597594028936833, 0.24437016189543848]),
+            ([-0.057451381386622424, -0.7267843381819048, 0.6691003166427885],
+             [0.0, 0.0, 0.0, 1.0],
+             [0.2488922968323334, 0.2837819882746506, 0.27378103005368704]),
+            ([-0.45309105875937983, -0.5093957746456557, 0.29281401537720725],
+             [-0.4701870322590728, -0.5988860927278583, 0.3626833598557893, 0.5373270727557666],
+             [0.062102505033176325, 0.04134969581215635, 0.2699294186417207]),
+        ]
+        scene = mtc.PlanningScene(mtc.robots.panda())
+        for i, (p, q, size) in enumerate(boxes):
+            scene.apply_collision_object(msgs.CollisionObject(
+                id=f"box{i}", header=msgs.Header(frame_id="world"),
+                pose=msgs.Pose(position=msgs.Point(*p), orientation=msgs.Quaternion(*q)),
+                primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=size)],
+                primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))]))
+        start = scene.current_state.copy()
+        start.positions = [-0.09247501132570246, 0.7215195007841007, 0.4968139111926533, -0.9936838440609912,
+                           -0.18300487051494363, 0.9943329911184163, 0.2843480479615672, 0.035, 0.035]
+        goal = scene.current_state.copy()
+        goal.positions = [-2.8385397571326516, -0.5406521756449458, -0.7508360087820556, -0.9833684734481438,
+                          0.6707598433184154, 3.492309466153626, 2.647054726830191, 0.035, 0.035]
+        assert scene.is_state_colliding(goal, "panda_arm")  # the region's other states are planned to
+        for planner in ("PRMstar", "PRM"):
+            for seed in (541686714, 0, 1):
+                r, t = OMPLPipeline().plan_joint(scene, start, goal, "panda_arm", planner_id=planner, timeout=0.3,
+                                                 attempts=3, goal_joint_tolerance=0.08239872980944378, seed=seed)
+                if r:
+                    assert t[0].distance(start, "panda_arm") < 1e-9
+                    end = t[-1].get_joint_group_positions("panda_arm") - goal.get_joint_group_positions("panda_arm")
+                    assert abs(end).max() <= 0.08239872980944378 + 1e-9
+        """
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+                          env={**__import__("os").environ, "MTC_PARALLEL_SEARCH": "0"})
+    assert proc.returncode == 0, proc.stderr

@@ -211,6 +211,9 @@ RACE_TURN = 2
 #: The second search's seed is the first one's plus this.
 RACE_SEED_OFFSET = 15485863
 
+#: How far [rad, m] the ends of OMPL's path may be from our start and goal states (OMPL copies
+#: them; a goal state is reached within 1e-9).
+_ENDS_TOLERANCE = 1e-8
 #: Time budget [s] of a request whose timeout is infinite (MoveIt's default planning time).
 UNBOUNDED_TIMEOUT = 5.0
 
@@ -249,6 +252,13 @@ _MOVEIT_NAMES = {
     "ABITstar": "ABITstar",
     "AITstar": "AITstar",
 }
+#: OMPL planners whose solve runs a second thread that looks for a solution while the roadmap
+#: grows. That thread must not call into Python (the state checks, a goal state's check, a
+#: termination condition counting checks): the solving thread holds the GIL while it waits for
+#: the thread to end, so such a call would never return. They get one goal state (the goal, or
+#: the nearest valid state of a goal region) and a time limit, not a count of checks; the thread's
+#: timing decides when they stop, so the same seed need not give the same path.
+_THREADED = {"PRM", "PRMstar", "SPARS", "SPARStwo"}
 #: Share of the remaining time an optimizing planner (which searches until its time is up) gets
 #: for its searches; the rest is kept for proving its path collision-free in full and repairing
 #: the edges that fail (MoveIt returns such a path after its planner's time; mtc must prove it).
@@ -1644,6 +1654,9 @@ class _OMPLRun:
         self.cls_name = cls_name
         k = req.group.variable_count
         self._k = range(k)
+        if cls_name in _THREADED:
+            goals = goals[:1]
+        self._start, self._goals = np.asarray(x_start, dtype=float), np.asarray(goals, dtype=float)
         with _quiet_ompl():
             ou.RNG.setSeed(_ompl_seed(seed))  # before any OMPL object draws its own seed
             space = ob.RealVectorStateSpace(k)
@@ -1744,7 +1757,7 @@ class _OMPLRun:
         rng_k = self._k
         cut = [False]
         with _quiet_ompl():
-            if budget is None:
+            if budget is None or cls_name in _THREADED:
                 status = ss.solve(remaining)
             else:
                 stop_at = time.perf_counter() + remaining
@@ -1763,6 +1776,9 @@ class _OMPLRun:
                 p = ss.getSolutionPath()
                 path = np.array([[p.getState(j)[i] for i in rng_k] for j in range(p.getStateCount())])
             status_text = status.asString()
+        if path is not None and not self._joins_start_and_goal(path):
+            # (AORRTC can report a path from a goal to itself as an exact solution)
+            return None, f"PLANNING_FAILED: {cls_name} returned a path that does not run from the start to a goal", False
         if path is not None:
             # OMPL's path must start and end exactly at our states; every edge was validated
             # by the motion validator, checked again only if not (e.g. a planner's own edges);
@@ -1779,6 +1795,13 @@ class _OMPLRun:
         if status_type == ob.PlannerStatus.TIMEOUT:
             return None, timed_out, False
         return None, f"PLANNING_FAILED: {cls_name}: {status_text}", False
+
+
+    def _joins_start_and_goal(self, path: np.ndarray) -> bool:
+        """Whether ``path`` starts at the start and ends at one of the goals (to OMPL's 1e-9)."""
+        if len(path) == 0 or np.abs(path[0] - self._start).max(initial=0.0) > _ENDS_TOLERANCE:
+            return False
+        return bool((np.abs(self._goals - path[-1]).max(axis=1, initial=0.0) <= _ENDS_TOLERANCE).any())
 
 
 class _TurnSearch:
