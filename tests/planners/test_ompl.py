@@ -1001,3 +1001,59 @@ def test_prm_with_a_goal_region_returns(panda):
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
                           env={**__import__("os").environ, "MTC_PARALLEL_SEARCH": "0"})
     assert proc.returncode == 0, proc.stderr
+
+
+def test_a_planner_that_runs_past_its_time_is_stopped():
+    """AORRTC can stop asking OMPL's termination condition (ompl/ompl#1420) and ran on for good;
+    a state check half a second past the deadline now ends it, and the request times out. Run in
+    a child process, so that a hang fails the test."""
+    code = textwrap.dedent(
+        """
+        import time
+        import numpy as np
+        import mtc
+        from mtc import core, msgs
+        boxes = [
+            ([0.5622074895779052, 0.28285976266878593, 0.013462797504466373],
+             [0.0, 0.0, 0.0, 1.0],
+             [0.2925876885700164, 0.08044229090769725, 0.04119258350888221]),
+            ([-0.06699566297501545, 0.5277883926617166, 0.6407558352913104],
+             [-0.38346790057654934, -0.7485784792958008, -0.02218662988212036, 0.540453867612282],
+             [0.2251952462235532, 0.14312756941246957, 0.05338310288560103]),
+            ([-0.5594589863805969, 0.46830507444189706, 0.6245502500997371],
+             [0.0, 0.0, 0.0, 1.0],
+             [0.16693396340999572, 0.07658350180463791, 0.08142954750266707]),
+            ([0.4870773885352418, -0.2162740816593888, 1.0969406160513835],
+             [0.608274388532452, -0.03560424969207551, -0.6991080981697276, 0.37414231614833765],
+             [0.15987726902008587, 0.20118479287944663, 0.21593220796576054]),
+            ([-0.42599844029620626, 0.3612544769391543, 0.31490593056678423],
+             [0.23534440774250637, -0.123198686127194, -0.42749322162156206, 0.8641091591624753],
+             [0.12696381317909172, 0.2939880505383847, 0.09530554458605409]),
+        ]
+        START = [-0.7560852380493546, -0.3003536598623322, 0.8362580675697502, -1.1428006219374758, 2.893039927290752, 2.1009310662687133, -0.7852324957985881, 0.035, 0.035]
+        TARGET = np.array([[0.41149533684372264, 0.5883213535178703, 0.6960959508219916, -0.31587793016873705], [0.49707223053821925, 0.4953009348769225, -0.712457845446175, -0.34639098852694705], [-0.7639311391634918, 0.6391830480425363, -0.08862418243020209, 0.19248663767563484], [0.0, 0.0, 0.0, 1.0]])
+        OFFSET = np.array([[0.9462685103392696, -0.3206704468598795, 0.0417896021874416, 0.13974159294621838], [0.2637529989091381, 0.8400841940110584, 0.474017829347406, 0.07161750881682455], [-0.18711029342806246, -0.43752601235066646, 0.8795230108472369, -0.007807622404582215], [0.0, 0.0, 0.0, 1.0]])
+        model = mtc.robots.panda()
+        scene = mtc.PlanningScene(model)
+        for i, (p, q, size) in enumerate(boxes):
+            scene.apply_collision_object(msgs.CollisionObject(
+                id=f"box{i}", header=msgs.Header(frame_id="world"),
+                pose=msgs.Pose(position=msgs.Point(*p), orientation=msgs.Quaternion(*q)),
+                primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=size)],
+                primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))]))
+        from_scene = scene.diff()
+        from_scene.current_state.positions = START
+        planner = core.PipelinePlanner("ompl", "AORRTC")
+        planner.seed = 1549439501
+        planner.init(model)
+        t = time.perf_counter()
+        result, traj = planner.plan_to_pose(from_scene, "panda_hand_tcp", np.array(OFFSET), np.array(TARGET),
+                                            "panda_arm", 2.0)
+        took = time.perf_counter() - t
+        assert took < 2.0 + 0.5 + 0.5, took
+        assert result or result.message == "TIMED_OUT: no solution found in 2 s (AORRTC)", result.message
+        """
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
+                          env={**__import__("os").environ, "MTC_PARALLEL_SEARCH": "0"})
+    assert proc.returncode == 0, proc.stderr

@@ -214,6 +214,10 @@ RACE_SEED_OFFSET = 15485863
 #: How far [rad, m] the ends of OMPL's path may be from our start and goal states (OMPL copies
 #: them; a goal state is reached within 1e-9).
 _ENDS_TOLERANCE = 1e-8
+#: How long [s] past the request's deadline an OMPL planner may go on checking states before the
+#: check raises :class:`_Overrun` to end it (some planners can stop asking OMPL's termination
+#: condition: AORRTC's tree growth, ompl/ompl#1420).
+OVERRUN_GRACE = 0.5
 #: Time budget [s] of a request whose timeout is infinite (MoveIt's default planning time).
 UNBOUNDED_TIMEOUT = 5.0
 
@@ -783,16 +787,24 @@ class _EdgeChecker:
         return -1
 
 
+class _Overrun(Exception):
+    """Raised by a state or motion check :data:`OVERRUN_GRACE` past the request's deadline: it
+    unwinds the OMPL planner that went on past its termination condition."""
+
+
 class _MotionValidator(ob.MotionValidator):
     """OMPL motion validator calling :class:`_EdgeChecker` (edges checked in numpy batches at
     the joint resolution instead of one Python callback per interpolated state)."""
 
-    def __init__(self, si, checker: _EdgeChecker, k: int):
+    def __init__(self, si, checker: _EdgeChecker, k: int, stop_at: float):
         super().__init__(si)
         self._checker = checker
         self._k = range(k)
+        self._stop_at = stop_at
 
     def checkMotion(self, s1, s2, *_last_valid) -> bool:  # noqa: N802 (OMPL's name)
+        if time.perf_counter() > self._stop_at:
+            raise _Overrun
         k = self._k
         a = np.array(list(map(s1.__getitem__, k)))
         b = np.array(list(map(s2.__getitem__, k)))
@@ -1673,11 +1685,15 @@ class _OMPLRun:
             checker = req.checker
             rng_k = self._k
 
+            stop_at = req.deadline + OVERRUN_GRACE
+
             def is_valid(state) -> bool:
+                if time.perf_counter() > stop_at:
+                    raise _Overrun
                 return checker.state_ok(np.array(list(map(state.__getitem__, rng_k))))
 
             ss.setStateValidityChecker(is_valid)
-            si.setMotionValidator(_MotionValidator(si, checker, k))
+            si.setMotionValidator(_MotionValidator(si, checker, k, stop_at))
             self._is_valid = is_valid
             ss.setStartState(self._state(space, x_start))
             if len(goals) == 1:
@@ -1757,19 +1773,24 @@ class _OMPLRun:
         rng_k = self._k
         cut = [False]
         with _quiet_ompl():
-            if budget is None or cls_name in _THREADED:
-                status = ss.solve(remaining)
-            else:
-                stop_at = time.perf_counter() + remaining
-                limit = checker.states_checked + budget
+            try:
+                if budget is None or cls_name in _THREADED:
+                    status = ss.solve(remaining)
+                else:
+                    stop_at = time.perf_counter() + remaining
+                    limit = checker.states_checked + budget
 
-                def stop() -> bool:
-                    if checker.states_checked >= limit or (halt is not None and halt()):
-                        cut[0] = True
-                        return True
-                    return time.perf_counter() >= stop_at
+                    def stop() -> bool:
+                        if checker.states_checked >= limit or (halt is not None and halt()):
+                            cut[0] = True
+                            return True
+                        return time.perf_counter() >= stop_at
 
-                status = ss.solve(ob.PlannerTerminationCondition(stop))
+                    status = ss.solve(ob.PlannerTerminationCondition(stop))
+            except _Overrun:
+                log.warning("OMPL's %s went on checking states %.1f s past the request's deadline: stopped",
+                            cls_name, OVERRUN_GRACE)
+                return None, f"TIMED_OUT: no solution found in {req.deadline - req.t0:.3g} s ({cls_name})", False
             status_type = status.getStatus()
             path = None
             if ss.haveExactSolutionPath():
