@@ -1057,3 +1057,29 @@ def test_a_planner_that_runs_past_its_time_is_stopped():
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
                           env={**__import__("os").environ, "MTC_PARALLEL_SEARCH": "0"})
     assert proc.returncode == 0, proc.stderr
+
+
+def test_a_start_within_the_goal_tolerance_does_not_jump_through_an_obstacle(ready_scene):
+    """A start within goal_joint_tolerance of the goal is there already: the plan moves on to
+    the goal state only where that motion is free, else stays at the start (it jumped to the
+    goal unchecked, through a 4 mm cube in the fingers' way)."""
+    start = ready_scene.current_state.copy()
+    goal = start.copy()
+    goal.set_variable_positions({"panda_joint1": 0.08})
+    mid = start.interpolate(goal, 0.5)
+    T = mid.get_global_link_transform("panda_leftfinger")
+    pose = np.eye(4)
+    pose[:3, 3] = T[:3, :3] @ [0.0, 0.01, 0.045] + T[:3, 3]
+    scene = ready_scene.diff()
+    scene.apply_collision_object(msgs.CollisionObject(
+        id="cube", header=msgs.Header(frame_id="world"), pose=msgs.matrix_to_pose(pose),
+        primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.004, 0.004, 0.004])],
+        primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))], operation=msgs.CollisionObject.ADD))
+    assert scene.is_state_colliding(mid) and not scene.is_state_colliding(goal)
+    result, traj = OMPLPipeline().plan_joint(scene, start, goal, ARM, goal_joint_tolerance=0.1)
+    assert result and len(traj) == 1
+    assert traj[0].distance(start, ARM) == 0.0
+    # without the cube it moves on to the goal state
+    result, traj = OMPLPipeline().plan_joint(ready_scene, start, goal, ARM, goal_joint_tolerance=0.1)
+    assert result and traj[-1].distance(goal, ARM) < 1e-12
+    _assert_collision_free_at(ready_scene, traj, 1e-3)

@@ -1387,10 +1387,12 @@ class OMPLPipeline:
         stats = self.last_stats
         stats.planner = cls_name
         goals = self._turned_goals(req, goals)
-        # already there
+        # already there: the start lies within the goal's tolerance. Move on to the goal where that
+        # motion is free, else stay (a jump to the goal state unchecked could pass an obstacle)
         for g in goals:
             if np.all(np.abs(g - req.x_start) <= goal_tol):
-                return self._success(req, np.array([req.x_start, g]), np.array([req.x_start, g]))
+                path = np.array([req.x_start, g]) if checker.edge_ok_direct(req.x_start, g) else np.array([req.x_start])
+                return self._success(req, path, path)
         # a start or goal closer to an obstacle than the proof can resolve: fail now, not at the timeout
         if checker.touching(req.x_start):
             return self._fail(req, f"START_STATE_IN_COLLISION: start state touches an obstacle (closer than "
