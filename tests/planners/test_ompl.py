@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+import os
 import subprocess
 import sys
 import textwrap
@@ -901,16 +902,34 @@ def test_a_goal_with_a_small_clearance_plans(pipeline, ready_scene):
     assert result, result.message
 
 
-def _boxes_scene(panda, boxes) -> PlanningScene:
-    """A scene with boxes given as (position, quaternion xyzw, size)."""
-    scene = PlanningScene(panda)
+# a scene of boxes given as (position, quaternion xyzw, size); the source also serves the child
+# processes of the tests that would hang without their fix
+_BOXES_SCENE = """
+import mtc
+from mtc import msgs
+
+
+def boxes_scene(model, boxes):
+    scene = mtc.PlanningScene(model)
     for i, (p, q, size) in enumerate(boxes):
         scene.apply_collision_object(msgs.CollisionObject(
             id=f"box{i}", header=msgs.Header(frame_id="world"),
             pose=msgs.Pose(position=msgs.Point(*p), orientation=msgs.Quaternion(*q)),
             primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=list(size))],
-            primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))], operation=msgs.CollisionObject.ADD))
+            primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))]))
     return scene
+"""
+_namespace: dict = {}
+exec(_BOXES_SCENE, _namespace)
+_boxes_scene = _namespace["boxes_scene"]
+
+
+def _run_child(code: str) -> None:
+    """Run ``code`` after :data:`_BOXES_SCENE` in a child process (one search at a time); a
+    hang fails the test after a minute."""
+    proc = subprocess.run([sys.executable, "-c", _BOXES_SCENE + textwrap.dedent(code)], capture_output=True,
+                          text=True, timeout=60, env={**os.environ, "MTC_PARALLEL_SEARCH": "0"})
+    assert proc.returncode == 0, proc.stderr
 
 
 def test_a_path_that_does_not_join_start_and_goal_is_refused(panda):
@@ -949,10 +968,8 @@ def test_prm_with_a_goal_region_returns(panda):
     """PRM looks for a solution in a second thread, which called the Python state checks for
     the goal region's further states while the solving thread waited for it holding the GIL:
     the request never returned. Run in a child process, so that a hang fails the test."""
-    code = textwrap.dedent(
+    _run_child(
         """
-        import mtc
-        from mtc import msgs
         from mtc.planners.ompl_pipeline import OMPLPipeline
         boxes = [
             ([0.49715522047341776, 0.34724684829411084, 0.8985736616547766],
@@ -974,13 +991,7 @@ def test_prm_with_a_goal_region_returns(panda):
              [-0.4701870322590728, -0.5988860927278583, 0.3626833598557893, 0.5373270727557666],
              [0.062102505033176325, 0.04134969581215635, 0.2699294186417207]),
         ]
-        scene = mtc.PlanningScene(mtc.robots.panda())
-        for i, (p, q, size) in enumerate(boxes):
-            scene.apply_collision_object(msgs.CollisionObject(
-                id=f"box{i}", header=msgs.Header(frame_id="world"),
-                pose=msgs.Pose(position=msgs.Point(*p), orientation=msgs.Quaternion(*q)),
-                primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=size)],
-                primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))]))
+        scene = boxes_scene(mtc.robots.panda(), boxes)
         start = scene.current_state.copy()
         start.positions = [-0.09247501132570246, 0.7215195007841007, 0.4968139111926533, -0.9936838440609912,
                            -0.18300487051494363, 0.9943329911184163, 0.2843480479615672, 0.035, 0.035]
@@ -998,21 +1009,17 @@ def test_prm_with_a_goal_region_returns(panda):
                     assert abs(end).max() <= 0.08239872980944378 + 1e-9
         """
     )
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
-                          env={**__import__("os").environ, "MTC_PARALLEL_SEARCH": "0"})
-    assert proc.returncode == 0, proc.stderr
 
 
 def test_a_planner_that_runs_past_its_time_is_stopped():
     """AORRTC can stop asking OMPL's termination condition (ompl/ompl#1420) and ran on for good;
     a state check half a second past the deadline now ends it, and the request times out. Run in
     a child process, so that a hang fails the test."""
-    code = textwrap.dedent(
+    _run_child(
         """
         import time
         import numpy as np
-        import mtc
-        from mtc import core, msgs
+        from mtc import core
         boxes = [
             ([0.5622074895779052, 0.28285976266878593, 0.013462797504466373],
              [0.0, 0.0, 0.0, 1.0],
@@ -1034,13 +1041,7 @@ def test_a_planner_that_runs_past_its_time_is_stopped():
         TARGET = np.array([[0.41149533684372264, 0.5883213535178703, 0.6960959508219916, -0.31587793016873705], [0.49707223053821925, 0.4953009348769225, -0.712457845446175, -0.34639098852694705], [-0.7639311391634918, 0.6391830480425363, -0.08862418243020209, 0.19248663767563484], [0.0, 0.0, 0.0, 1.0]])
         OFFSET = np.array([[0.9462685103392696, -0.3206704468598795, 0.0417896021874416, 0.13974159294621838], [0.2637529989091381, 0.8400841940110584, 0.474017829347406, 0.07161750881682455], [-0.18711029342806246, -0.43752601235066646, 0.8795230108472369, -0.007807622404582215], [0.0, 0.0, 0.0, 1.0]])
         model = mtc.robots.panda()
-        scene = mtc.PlanningScene(model)
-        for i, (p, q, size) in enumerate(boxes):
-            scene.apply_collision_object(msgs.CollisionObject(
-                id=f"box{i}", header=msgs.Header(frame_id="world"),
-                pose=msgs.Pose(position=msgs.Point(*p), orientation=msgs.Quaternion(*q)),
-                primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=size)],
-                primitive_poses=[msgs.Pose(orientation=msgs.Quaternion(w=1.0))]))
+        scene = boxes_scene(model, boxes)
         from_scene = scene.diff()
         from_scene.current_state.positions = START
         planner = core.PipelinePlanner("ompl", "AORRTC")
@@ -1054,9 +1055,6 @@ def test_a_planner_that_runs_past_its_time_is_stopped():
         assert result or result.message == "TIMED_OUT: no solution found in 2 s (AORRTC)", result.message
         """
     )
-    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60,
-                          env={**__import__("os").environ, "MTC_PARALLEL_SEARCH": "0"})
-    assert proc.returncode == 0, proc.stderr
 
 
 def test_a_start_within_the_goal_tolerance_does_not_jump_through_an_obstacle(ready_scene):
