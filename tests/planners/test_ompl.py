@@ -1081,3 +1081,36 @@ def test_a_start_within_the_goal_tolerance_does_not_jump_through_an_obstacle(rea
     result, traj = OMPLPipeline().plan_joint(ready_scene, start, goal, ARM, goal_joint_tolerance=0.1)
     assert result and traj[-1].distance(goal, ARM) < 1e-12
     _assert_collision_free_at(ready_scene, traj, 1e-3)
+
+
+def test_more_attempts_never_give_a_longer_path_where_a_search_is_renewed(panda):
+    """A search whose path cannot be made valid in full is run again (renewed) before any
+    further attempt: with one attempt BFMT's renewed search gave 3.63 rad, with two the second
+    attempt ran instead of the renewal and gave 3.92 rad."""
+    scene = _boxes_scene(panda, [
+        ([0.6551838104073792, -0.3905785543053651, 1.0079618792387],
+         [0.44835174055149235, -0.8360069118510247, -0.31237911860152323, 0.04992440629087119],
+         [0.21517386653605816, 0.13876572779227403, 0.12160499705744901]),
+        ([-0.4394803490843959, 0.17733665801911205, 1.0270401569566394], [0.0, 0.0, 0.0, 1.0],
+         [0.09180143913074049, 0.22751941708959908, 0.20634371798952636]),
+        ([-0.109047985369853, 0.6377398640590732, 0.4716284736442395], [0.0, 0.0, 0.0, 1.0],
+         [0.13885251848247393, 0.09578604070917135, 0.12336940294377022]),
+        ([-0.08004143287549972, -0.3436524377072594, 0.2794462602710533], [0.0, 0.0, 0.0, 1.0],
+         [0.050646627013971005, 0.05314780700567292, 0.14985207307145887]),
+        ([0.12127636710801057, -0.5090334776880049, 0.31660336145415363], [0.0, 0.0, 0.0, 1.0],
+         [0.2780925586573936, 0.12821007964773684, 0.21306081921445258]),
+    ])
+    start = scene.current_state.copy()
+    start.positions = [0.9435419819113782, -0.4150989266258751, 2.5337558586070643, -1.4012894422820836,
+                       -0.9499246304525235, 3.0774330985056935, 0.08358424296627831, 0.035, 0.035]
+    goal = scene.current_state.copy()
+    goal.positions = [0.1613430194952934, -0.4830950202525899, 1.0744134704966921, -2.4460220574933316,
+                      1.6218847384735446, 2.451255912405618, 0.11252618533484382, 0.035, 0.035]
+    lengths = []
+    for attempts in (1, 2, 3):
+        pipe = OMPLPipeline()
+        result, _ = pipe.plan_joint(scene, start, goal, ARM, planner_id="BFMTkConfigDefault", timeout=5.0,
+                                    attempts=attempts, seed=1533508393)
+        assert result, result.message
+        lengths.append(pipe.last_stats.path_length)
+    assert lengths[1] <= lengths[0] + 1e-9 and lengths[2] <= lengths[1] + 1e-9

@@ -1447,9 +1447,10 @@ class OMPLPipeline:
             final = self._finalize(req, path, runner, cls_name, run_seed)
             if final is None:
                 last_message = "TIMED_OUT: no collision-free path at the checking resolution within the time"
-                if best is None and attempt == attempts - 1:
+                if best is None:
                     # the search went through a place only its coarser checks let it pass: a
-                    # new search (new seed, every edge checked in full) while there is time
+                    # new search (new seed, every edge checked in full) while there is time,
+                    # before any further attempt (more attempts only add searches after these)
                     renewed += 1
                     continue
                 attempt += 1
