@@ -1114,3 +1114,23 @@ def test_more_attempts_never_give_a_longer_path_where_a_search_is_renewed(panda)
         assert result, result.message
         lengths.append(pipe.last_stats.path_length)
     assert lengths[1] <= lengths[0] + 1e-9 and lengths[2] <= lengths[1] + 1e-9
+
+
+def test_request_arguments_as_documented(panda, ready_scene):
+    """MoveIt's group-qualified planner id passes PipelinePlanner's init() too (it was refused
+    there though the pipeline takes it); a negative seed is refused where it is given (numpy
+    raised deep inside some requests); a numpy float is a tolerance (it was refused as < 0)."""
+    from mtc.planners import PipelinePlanner
+
+    PipelinePlanner("ompl", "panda_arm[RRTConnectkConfigDefault]").init(panda)
+    with pytest.raises(ValueError, match="unknown OMPL planner id 'panda_arm\\[NoSuchPlanner\\]'|unknown OMPL planner id 'NoSuchPlanner'"):
+        PipelinePlanner("ompl", "panda_arm[NoSuchPlanner]").init(panda)
+    planner = PipelinePlanner("ompl")
+    with pytest.raises(ValueError, match="seed must be a number >= 0, got -1"):
+        planner.seed = -1
+    start = ready_scene.current_state.copy()
+    goal = _state(ready_scene, panda_joint1=0.5)
+    with pytest.raises(ValueError, match="seed must be an integer >= 0, got -1"):
+        OMPLPipeline().plan_joint(ready_scene, start, goal, ARM, seed=-1)
+    result, traj = OMPLPipeline().plan_joint(ready_scene, start, goal, ARM, goal_joint_tolerance=np.float32(0.1))
+    assert result, result.message

@@ -343,6 +343,8 @@ def _check_seed(seed) -> int:
         return 0
     if not isinstance(seed, (int, np.integer)) or isinstance(seed, bool):
         raise TypeError(f"seed must be an integer, not {type(seed).__name__}")
+    if seed < 0:
+        raise ValueError(f"seed must be an integer >= 0, got {seed}")
     return int(seed)
 
 
@@ -1113,7 +1115,7 @@ class OMPLPipeline:
             raise ValueError(f"timeout must be >= 0 [s], got {timeout!r}")
         if not (isinstance(attempts, (int, np.integer)) and attempts >= 1):
             raise ValueError(f"attempts (num_planning_attempts) must be an integer >= 1, got {attempts!r}")
-        if not (isinstance(tolerance, (int, float)) and tolerance >= 0):
+        if not (msgs.is_number(tolerance) and tolerance >= 0):
             raise ValueError(f"{tolerance_name} must be >= 0, got {tolerance!r}")
 
     def _prepare(self, scene, start, group, timeout, path_constraints):

@@ -104,7 +104,7 @@ class PipelinePlanner(PlannerInterface):
                   convert=non_negative("goal_orientation_tolerance"))
         p.declare("display_motion_plans", False, "publish generated solutions on topic display_planned_path")
         p.declare("publish_planning_requests", False, "publish motion planning requests on topic motion_plan_request")
-        p.declare("seed", 0, "random seed of the planning requests")
+        p.declare("seed", 0, "random seed of the planning requests", convert=non_negative("seed"))
 
     @property
     def pipeline_id(self) -> str:
@@ -131,8 +131,9 @@ class PipelinePlanner(PlannerInterface):
     def _check_planner_id(self, module) -> str:
         planner = self.properties.get("planner")
         if planner and hasattr(module, "resolve_planner_id"):
-            module.resolve_planner_id(planner)  # OMPL's error lists MoveIt's ids and mentions OMPL's
-        if planner and planner not in module.KNOWN_PLANNERS:
+            # OMPL: MoveIt's ids, "group[id]" and OMPL's names; its error lists MoveIt's ids
+            module.resolve_planner_id(planner)
+        elif planner and planner not in module.KNOWN_PLANNERS:
             raise ValueError(
                 f"unknown planner '{planner}' for pipeline '{self._pipeline_id}' "
                 f"(known: {', '.join(module.KNOWN_PLANNERS)})"
