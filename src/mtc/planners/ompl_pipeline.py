@@ -214,10 +214,13 @@ RACE_SEED_OFFSET = 15485863
 #: How far [rad, m] the ends of OMPL's path may be from our start and goal states (OMPL copies
 #: them; a goal state is reached within 1e-9).
 _ENDS_TOLERANCE = 1e-8
-#: How long [s] past the request's deadline an OMPL planner may go on checking states before the
-#: check raises :class:`_Overrun` to end it (some planners can stop asking OMPL's termination
-#: condition: AORRTC's tree growth, ompl/ompl#1420).
+#: How long [s] past the request's deadline a planner of :data:`_MAY_RUN_ON` may go on checking
+#: states before the check raises :class:`_Overrun` to end it.
 OVERRUN_GRACE = 0.5
+#: OMPL planners that can stop asking OMPL's termination condition and run on for good (AORRTC's
+#: tree growth, ompl/ompl#1420). Others may return late (BITstar prunes its graph in one step
+#: that does not ask), but they do return, with a path worth keeping.
+_MAY_RUN_ON = {"AORRTC"}
 #: Time budget [s] of a request whose timeout is infinite (MoveIt's default planning time).
 UNBOUNDED_TIMEOUT = 5.0
 
@@ -1690,7 +1693,7 @@ class _OMPLRun:
             checker = req.checker
             rng_k = self._k
 
-            stop_at = req.deadline + OVERRUN_GRACE
+            stop_at = req.deadline + OVERRUN_GRACE if cls_name in _MAY_RUN_ON else math.inf
 
             def is_valid(state) -> bool:
                 if time.perf_counter() > stop_at:
