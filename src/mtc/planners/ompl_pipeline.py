@@ -801,19 +801,31 @@ class _MotionValidator(ob.MotionValidator):
     """OMPL motion validator calling :class:`_EdgeChecker` (edges checked in numpy batches at
     the joint resolution instead of one Python callback per interpolated state)."""
 
-    def __init__(self, si, checker: _EdgeChecker, k: int, stop_at: float):
+    def __init__(self, si, checker: _EdgeChecker, k: int):
         super().__init__(si)
         self._checker = checker
         self._k = range(k)
-        self._stop_at = stop_at
 
     def checkMotion(self, s1, s2, *_last_valid) -> bool:  # noqa: N802 (OMPL's name)
-        if time.perf_counter() > self._stop_at:
-            raise _Overrun
         k = self._k
         a = np.array(list(map(s1.__getitem__, k)))
         b = np.array(list(map(s2.__getitem__, k)))
         return self._checker.edge_ok(a, b)
+
+
+class _GuardedMotionValidator(_MotionValidator):
+    """:class:`_MotionValidator` for a planner of :data:`_MAY_RUN_ON`: past ``stop_at``
+    (``time.perf_counter()``) a check raises :class:`_Overrun` (the other planners do not pay
+    for the clock)."""
+
+    def __init__(self, si, checker: _EdgeChecker, k: int, stop_at: float):
+        super().__init__(si, checker, k)
+        self._stop_at = stop_at
+
+    def checkMotion(self, s1, s2, *last_valid) -> bool:  # noqa: N802 (OMPL's name)
+        if time.perf_counter() > self._stop_at:
+            raise _Overrun
+        return super().checkMotion(s1, s2, *last_valid)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -1693,15 +1705,22 @@ class _OMPLRun:
             checker = req.checker
             rng_k = self._k
 
-            stop_at = req.deadline + OVERRUN_GRACE if cls_name in _MAY_RUN_ON else math.inf
-
             def is_valid(state) -> bool:
-                if time.perf_counter() > stop_at:
-                    raise _Overrun
                 return checker.state_ok(np.array(list(map(state.__getitem__, rng_k))))
 
+            if cls_name in _MAY_RUN_ON:
+                stop_at = req.deadline + OVERRUN_GRACE
+                unguarded = is_valid
+
+                def is_valid(state) -> bool:
+                    if time.perf_counter() > stop_at:
+                        raise _Overrun
+                    return unguarded(state)
+
+                si.setMotionValidator(_GuardedMotionValidator(si, checker, k, stop_at))
+            else:
+                si.setMotionValidator(_MotionValidator(si, checker, k))
             ss.setStateValidityChecker(is_valid)
-            si.setMotionValidator(_MotionValidator(si, checker, k, stop_at))
             self._is_valid = is_valid
             ss.setStartState(self._state(space, x_start))
             if len(goals) == 1:
