@@ -16,9 +16,11 @@ from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
 from mtc import msgs
 from mtc.core.properties import PropertyMap, TypedPropertyAccess, non_negative
+from mtc.planners import ik
 from mtc.planners.time_parameterization import (
     TimeOptimalTrajectoryGeneration,
     TimeParameterization,
@@ -85,10 +87,8 @@ def pose_argument(pose, what: str) -> np.ndarray:
         TypeError: anything else.
         ValueError: numbers that are not finite.
     """
-    if isinstance(pose, msgs.Pose):
-        T = msgs.pose_to_matrix(pose)
-    elif hasattr(pose, "homogeneous"):  # pin.SE3
-        T = np.asarray(pose.homogeneous, dtype=float)
+    if isinstance(pose, (msgs.Pose, pin.SE3)):
+        T = ik.as_pose_matrix(pose, what=what)
     else:
         try:
             T = np.asarray(pose, dtype=float)
