@@ -343,3 +343,91 @@ def test_projection_reaches_the_constraints(panda, ready):
             assert np.all(out[idx] >= lo) and np.all(out[idx] <= hi)
             np.testing.assert_array_equal(np.delete(out, idx), np.delete(q, idx))
     assert projected >= 18
+
+
+# --- bounds for proving constraints between states -------------------------------------------
+
+
+def _mixed_constraints(ready, frame="world", parameterization=0, tol=(0.3, 0.2, 1.0)):
+    """An orientation constraint around the ready hand's orientation and a position
+    constraint whose region is two boxes and a sphere around the ready hand's point."""
+    T = ready.get_global_link_transform("panda_hand")
+    header = np.eye(4) if frame == "world" else ready.get_global_link_transform(frame)
+    rel = np.linalg.solve(header, T)
+    poses = []
+    for shift in ((0.0, -0.06, 0.0), (0.0, 0.06, 0.0), (0.05, 0.0, 0.05)):
+        P = np.eye(4)
+        P[:3, 3] = T[:3, 3] + np.array(shift)
+        poses.append(msgs.matrix_to_pose(P))
+    prims = [msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.2, 0.1, 0.15]),
+             msgs.SolidPrimitive(type=msgs.SolidPrimitive.CYLINDER, dimensions=[0.15, 0.06]),
+             msgs.SolidPrimitive(type=msgs.SolidPrimitive.SPHERE, dimensions=[0.07])]
+    pc = msgs.PositionConstraint(header=msgs.Header(frame_id="world"), link_name="panda_hand", weight=1.0,
+                                 target_point_offset=msgs.Vector3(x=0.01, y=0.0, z=0.1),
+                                 constraint_region=msgs.BoundingVolume(primitives=prims, primitive_poses=poses))
+    oc = _orientation("panda_hand", rel[:3, :3], tol, frame=frame, parameterization=parameterization)
+    return msgs.Constraints(orientation_constraints=[oc], position_constraints=[pc])
+
+
+@pytest.mark.parametrize("frame", ["world", "panda_link3"])
+@pytest.mark.parametrize("parameterization", [0, 1])
+def test_slacks_bound_how_fast_a_motion_can_leave_the_constraints(panda, ready, frame, parameterization):
+    """slacks() is >= 0 exactly where the constraints hold. Along a straight motion a slack
+    shrinks by no more than motion_rates() allow, nor faster than the speed at the start grown
+    at the curvature rate: the bounds the planner proves whole edges with."""
+    scene = PlanningScene(panda)
+    cs = KinematicConstraintSet(panda, _mixed_constraints(ready, frame, parameterization))
+    ev = cs.bind(scene)
+    rows, k = ev.motion_rates(), ev.curvature_factors()
+    assert rows.shape == (2, panda.pinocchio_model.nq) and k.tolist() == [2.0, 1.0]
+    rng = np.random.default_rng(3)
+    signs, tight = set(), [0.0, 0.0]
+    for _ in range(150):
+        q = ready.positions.copy()
+        q[:7] += rng.normal(0.0, 0.1, 7)
+        s0, w0 = ev.slacks_and_speeds(q, np.zeros_like(q))
+        assert (min(s0) >= 0.0) == ev(q) == cs.satisfied(RobotState(panda, q), scene)
+        signs.add(ev(q))
+        if not ev(q):
+            continue
+        D = np.zeros_like(q)
+        D[:7] = rng.normal(0.0, 0.15, 7)
+        s0, w0 = map(np.array, ev.slacks_and_speeds(q, D))
+        L = rows @ np.abs(D)
+        V = k * L * np.abs(D).sum()
+        for t in np.linspace(0.0, 1.0, 41)[1:]:
+            s = np.array(ev.slacks(q + t * D))
+            if s.min() < 0.0:
+                break  # the bounds hold while the constraints do
+            drop = np.abs(s - s0)
+            assert np.all(drop <= L * t + 1e-9)
+            assert np.all(drop <= w0 * t + V * t * t / 2 + 1e-9)
+            tight = np.maximum(tight, drop / (w0 * t + V * t * t / 2 + 1e-12))
+    assert signs == {True, False}
+    assert min(tight) > 0.3  # the bounds are not vacuous
+
+
+def test_motion_rates_are_none_where_no_bound_exists(panda, ready):
+    scene = PlanningScene(panda)
+    T = ready.get_global_link_transform("panda_hand")
+    # a position region in a link frame moves with the robot
+    moving = _position("panda_hand", msgs.SolidPrimitive.SPHERE, (0.1,), np.eye(4), frame="panda_link3")
+    assert KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[moving])).bind(scene).motion_rates() is None
+    # Euler angles with the middle one free: the outer ones turn without bound near pi/2
+    free_y = _orientation("panda_hand", T[:3, :3], (0.1, math.pi / 2, 0.1))
+    assert KinematicConstraintSet(panda, msgs.Constraints(orientation_constraints=[free_y])).bind(scene).motion_rates() is None
+    # all free but the middle one, or as a rotation vector: bounded
+    for oc in (_orientation("panda_hand", T[:3, :3], (math.pi, 0.1, math.pi)),
+               _orientation("panda_hand", T[:3, :3], (0.1, math.pi / 2, 0.1), parameterization=1)):
+        rows = KinematicConstraintSet(panda, msgs.Constraints(orientation_constraints=[oc])).bind(scene).motion_rates()
+        assert rows is not None and rows[0, :7].tolist() == [1.0] * 7 and rows[0, 7:].tolist() == [0.0, 0.0]
+
+
+def test_a_tolerance_of_3_14_is_read_as_pi(panda, ready):
+    """3.14 is how MoveIt's examples write pi ("upright", turning freely about z): a yaw error
+    between 3.14 and pi meets it. 3.1 still constrains."""
+    R0 = ready.get_global_link_transform("panda_hand")[:3, :3]
+    for z_tol, met in ((3.14, True), (math.pi, True), (3.1, False)):
+        cs = KinematicConstraintSet(panda, msgs.Constraints(
+            orientation_constraints=[_orientation("panda_hand", R0 @ _rot("z", 3.1412), (0.1, 0.1, z_tol))]))
+        assert cs.satisfied(ready) is met, z_tol

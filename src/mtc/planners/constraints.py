@@ -18,7 +18,10 @@ Semantics (MoveIt's ``kinematic_constraints.cpp``):
   ``absolute_{x,y,z}_axis_tolerance``. ``XYZ_EULER_ANGLES`` (default) reads the components as
   intrinsic x-y-z Euler angles, taking the solution with the middle angle in [-pi/2, pi/2]
   (MoveIt folds Eigen's angles with ``min(|a|, pi - |a|)``, which also accepts half turns; this
-  port does not); ``ROTATION_VECTOR`` reads them as the rotation vector (axis * angle).
+  port does not); ``ROTATION_VECTOR`` reads them as the rotation vector (axis * angle). A
+  tolerance of 3.14 or more (:data:`PI_AS_WRITTEN`) reads as pi, a free axis: that is how
+  MoveIt's and MTC's examples write pi, and MoveIt accepts every angle with it (this port
+  would otherwise leave a wall 1.6 mrad thin at the half turn).
 
 ``link_name`` may name a robot link, an attached object or an attached object's subframe
 (``"object/subframe"``); header frames may name those, a world object (or its subframe) or the
@@ -39,6 +42,7 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
+from mtc.scene.planning_scene import PRISMATIC_JOINTS, REVOLUTE_JOINTS, points_motion_row
 from mtc.scene.robot_model import RobotModel, wrap_angle
 from mtc.scene.robot_state import RobotState, plain_frame
 
@@ -53,6 +57,8 @@ __all__ = [
 # interpolation or projection) counts as satisfying it.
 _EPS = 1e-9
 _WEIGHT_EPS = np.finfo(float).eps
+#: Orientation tolerances from this value up read as pi (the axis is free) [rad].
+PI_AS_WRITTEN = 3.14
 
 
 def euler_xyz(R: np.ndarray) -> np.ndarray:
@@ -150,6 +156,17 @@ class _Region:
         axial = max(0.0, abs(z) - d[0])
         return math.hypot(radial, axial)
 
+    def inside_local(self, local) -> float:
+        """How far [m] a point in the primitive's frame is inside it: the distance it must
+        move (at least) to leave it; negative outside."""
+        x, y, z = local.tolist()
+        d = self.dims
+        if self.kind == msgs.SolidPrimitive.BOX:
+            return min(d[0] - abs(x), d[1] - abs(y), d[2] - abs(z))
+        if self.kind == msgs.SolidPrimitive.SPHERE:
+            return d[0] - math.sqrt(x * x + y * y + z * z)
+        return min(d[1] - math.hypot(x, y), d[0] - abs(z))
+
 
 @dataclass(frozen=True)
 class _Position:
@@ -171,6 +188,7 @@ class _Orientation:
 
     def __post_init__(self):
         object.__setattr__(self, "_tol", tuple(self.tolerances.tolist()))
+        object.__setattr__(self, "_gains", _rate_gains(self.parameterization, self._tol))
 
     def errors(self, R_frame: np.ndarray, R_link: np.ndarray) -> np.ndarray:
         """Absolute x, y, z error components of the link orientation [rad]."""
@@ -185,14 +203,59 @@ class _Orientation:
     def violation(self, R_frame: np.ndarray, R_link: np.ndarray) -> float:
         return self.diff_violation((R_frame @ self.target).T @ R_link)
 
-    def diff_violation(self, diff: np.ndarray) -> float:
+    def _abs_errors(self, diff: np.ndarray) -> tuple[float, float, float]:
         if self.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
             ex, ey, ez = np.abs(rotation_vector(diff)).tolist()
         else:
             ex, ey, ez = _euler_xyz_list(diff.tolist())
             ex, ey, ez = abs(ex), abs(ey), abs(ez)
+        return ex, ey, ez
+
+    def diff_violation(self, diff: np.ndarray) -> float:
+        ex, ey, ez = self._abs_errors(diff)
         tx, ty, tz = self._tol
         return _excess(ex - tx) + _excess(ey - ty) + _excess(ez - tz)
+
+    def diff_slack(self, diff: np.ndarray) -> float:
+        """How far the rotation ``diff`` is inside the tolerances, as the angle [rad] the link
+        must turn (at least) to leave them: the components' margins divided by their rate
+        gains (:func:`_rate_gains`, which must not be None); negative where violated."""
+        best = math.inf
+        for e, t, g in zip(self._abs_errors(diff), self._tol, self._gains):
+            if g:
+                best = min(best, (t + _EPS - e) / g)
+        return best
+
+
+#: Largest rate gain (see :func:`_rate_gains`) for which an orientation constraint is proven
+#: between the states a planner checks; beyond it only the states are checked.
+_MAX_RATE_GAIN = 1e3
+
+
+def _rate_gains(parameterization: int, tol: tuple) -> tuple[float, float, float] | None:
+    """Per error component of an orientation constraint, a bound on how fast it changes per
+    unit of the link's angular speed (relative to the header) while the constraint holds; 0
+    for a component whose tolerance it can never exceed. None where no bound exists.
+
+    Rotation vector: its rate is at most ``(theta / 2) / sin(theta / 2)`` times the angular
+    speed (the inverse Jacobian of the exponential map) at the largest angle ``theta`` inside
+    the tolerances. x-y-z Euler angles ``(a, b, c)``: the rates of ``a`` and ``c`` are at most
+    ``1 / cos(b)`` times the angular speed and that of ``b`` at most 1, so with ``|b|`` within
+    its tolerance they are bounded; with ``b`` free (a tolerance of pi/2 or more) ``a`` and
+    ``c`` can turn arbitrarily fast near ``|b| = pi/2`` (None unless they are free too)."""
+    if parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
+        active = [t < math.pi for t in tol]
+        theta = min(math.pi, math.sqrt(sum(min(t, math.pi) ** 2 for t in tol)))
+        g = 1.0 if theta == 0.0 else (theta / 2) / math.sin(theta / 2)
+        return tuple(g if a else 0.0 for a in active)
+    tx, ty, tz = tol
+    gy = 1.0 if ty < math.pi / 2 else 0.0
+    if tx >= math.pi and tz >= math.pi:
+        return (0.0, gy, 0.0)
+    if not gy or 1.0 / math.cos(ty) > _MAX_RATE_GAIN:
+        return None
+    g = 1.0 / math.cos(ty)
+    return (g if tx < math.pi else 0.0, 1.0, g if tz < math.pi else 0.0)
 
 
 def _parse_region(pc: msgs.PositionConstraint, where: str) -> tuple:
@@ -345,6 +408,9 @@ class KinematicConstraintSet:
                 f"{where}: unknown parameterization {oc.parameterization} "
                 "(XYZ_EULER_ANGLES=0, ROTATION_VECTOR=1)"
             )
+        # 3.14 is pi as MoveIt's and MTC's examples write it ("upright": z free): read it so,
+        # not as a wall 1.6 mrad thin at a half turn
+        tol = np.where(tol >= PI_AS_WRITTEN, np.maximum(tol, math.pi), tol)
         target = np.eye(3) if _is_zero_quaternion(oc.orientation) else msgs.quaternion_to_matrix(oc.orientation)
         return _Orientation(
             oc.link_name, oc.header.frame_id, target, tol, int(oc.parameterization), _weight(oc.weight)
@@ -619,6 +685,98 @@ class ConstraintEvaluator:
             if o.diff_violation(self._diff(link_ref, frame_ref)) > 0.0:
                 return False
         return True
+
+    def motion_rates(self) -> np.ndarray | None:
+        """Bounds on how fast the position and orientation constraints' :meth:`slacks` change:
+        rows (one per position constraint, then one per orientation constraint) over the
+        model's variables such that a motion ``dq`` changes a slack by at most
+        ``row @ |dq|``. A position constraint's point moves at most that far [m] (as a
+        collision geometry's, :func:`~mtc.scene.planning_scene.points_motion_row`); an
+        orientation constraint's link turns at most that far relative to its header [rad]: a
+        revolute joint above exactly one of the two by its own change.
+
+        None where some constraint has no such bound: a position constraint whose header
+        moves with the robot, an orientation constraint whose Euler tolerances leave its
+        middle angle free (:func:`_rate_gains`), or joints other than revolute and prismatic
+        ones. Then the constraints are only known to hold at the states checked."""
+        pm = self._pm
+        rows = []
+        for p, (fid, off), (hid, _) in self._positions:
+            if hid is not None and int(pm.frames[hid].parentJoint) != 0:
+                return None
+            if fid is None:
+                rows.append(np.zeros(pm.nq))
+                continue
+            frame = pm.frames[fid]
+            point = (frame.placement * off).act(p.offset)
+            rows.append(points_motion_row(self.constraint_set.robot_model, int(frame.parentJoint), point[None, :])[0])
+        for o, (fid, _), (hid, _) in self._orientations:
+            if o._gains is None:
+                return None
+            above = [set() if f is None else {int(j) for j in pm.supports[pm.frames[f].parentJoint]} - {0}
+                     for f in (fid, hid)]
+            row = np.zeros(pm.nq)
+            for j in above[0] ^ above[1]:
+                kind = pm.joints[j].shortname()
+                if kind in REVOLUTE_JOINTS:
+                    row[pm.joints[j].idx_q] = 1.0
+                elif kind not in PRISMATIC_JOINTS:
+                    row[pm.joints[j].idx_q] = np.inf
+            rows.append(row)
+        out = np.array(rows).reshape(len(rows), pm.nq)
+        return out if np.all(np.isfinite(out)) else None
+
+    def curvature_factors(self) -> np.ndarray:
+        """Per constraint (as :meth:`motion_rates`), ``k`` such that along a straight motion
+        ``dq`` the speed of :meth:`slacks_and_speeds` changes per unit of the motion by at most
+        ``k * (row @ |dq|) * sum(|dq|)``: an orientation constraint's angular velocity changes
+        as the joints above turn the axes of the joints below (``k = 1``); a position
+        constraint's point velocity has two such terms (``k = 2``)."""
+        return np.array([2.0] * len(self._positions) + [1.0] * len(self._orientations))
+
+    def slacks(self, q: np.ndarray) -> list[float]:
+        """How far the full joint vector ``q`` is inside each position and orientation
+        constraint (in the order of :meth:`motion_rates`): how far the point must move [m], or
+        the link turn [rad], at least to leave it; negative where it is violated."""
+        self._kinematics(q)
+        return self._slack_values()
+
+    def slacks_and_speeds(self, q: np.ndarray, dq: np.ndarray) -> tuple[list[float], list[float]]:
+        """:meth:`slacks` at ``q``, and per constraint how fast its point moves [m] or its link
+        turns relative to the header [rad] per unit of the motion ``dq`` at ``q`` (from the
+        Jacobians): the rate at which its slack can shrink there."""
+        pm, data = self._pm, self._data
+        pin.computeJointJacobians(pm, data, q)  # (with the forward kinematics)
+        for fid in self._frame_ids:
+            pin.updateFramePlacement(pm, data, fid)
+        slacks = self._slack_values()
+        speeds = []
+        frame = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+        for p, (fid, off), _ in self._positions:
+            if fid is None:
+                speeds.append(0.0)
+                continue
+            v = pin.getFrameJacobian(pm, data, fid, frame) @ dq
+            lever = (data.oMf[fid] * off).act(p.offset) - data.oMf[fid].translation
+            speeds.append(float(np.linalg.norm(v[:3] + np.cross(v[3:], lever))))
+        for _, (fid, _), (hid, _) in self._orientations:
+            w = np.zeros(3)
+            if fid is not None:
+                w += pin.getFrameJacobian(pm, data, fid, frame)[3:] @ dq
+            if hid is not None:
+                w -= pin.getFrameJacobian(pm, data, hid, frame)[3:] @ dq
+            speeds.append(float(np.linalg.norm(w)))
+        return slacks, speeds
+
+    def _slack_values(self) -> list[float]:
+        """:meth:`slacks` at the kinematics last computed."""
+        out = []
+        for p, link_ref, frame_ref in self._positions:
+            point = self._pose(frame_ref).actInv(self._pose(link_ref).act(p.offset))
+            out.append(max(r.inside_local(r.pose_inv.act(point)) for r in p.regions) + _EPS)
+        for o, link_ref, frame_ref in self._orientations:
+            out.append(o.diff_slack(self._diff(link_ref, frame_ref)))
+        return out
 
     def violation(self, q: np.ndarray) -> float:
         """Weighted sum of the constraint violations at ``q`` (0 when all hold)."""

@@ -176,9 +176,9 @@ def mesh_file_to_msg(filename: str, scale=(1.0, 1.0, 1.0), object_id: str | None
     )
 
 
-_REVOLUTE = ("JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned",
+REVOLUTE_JOINTS = ("JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned",
              "JointModelRUBX", "JointModelRUBY", "JointModelRUBZ", "JointModelRevoluteUnboundedUnaligned")
-_PRISMATIC = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
+PRISMATIC_JOINTS = ("JointModelPX", "JointModelPY", "JointModelPZ", "JointModelPrismaticUnaligned")
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
 
 
@@ -207,27 +207,32 @@ def _geometry_motion_row(model: RobotModel, go) -> tuple[np.ndarray, np.ndarray]
     farthest point from its own joint's origin. A prismatic joint moves it by its own change.
     Other joint types: inf.
     """
-    pm = model.pinocchio_model
-    joints = pm.joints
-    row = np.zeros(pm.nq)
-    anc = np.zeros(pm.nq, dtype=bool)
-    jg = int(go.parentJoint)
-    if jg == 0:
-        return row, anc
     # points of the geometry's hull in the joint's frame, and how far the geometry reaches
     # beyond their hull (see _hull_points)
     pts, extra = _hull_points(go.geometry)
     P = go.placement
     pts = pts @ np.asarray(P.rotation, dtype=float).T + np.asarray(P.translation, dtype=float)
+    return points_motion_row(model, int(go.parentJoint), pts, extra)
+
+
+def points_motion_row(model: RobotModel, joint: int, pts: np.ndarray, extra: float = 0.0):
+    """:func:`_geometry_motion_row` of the points within ``extra`` of the convex hull of
+    ``pts`` (rows, in the frame of the Pinocchio joint ``joint``)."""
+    pm = model.pinocchio_model
+    joints = pm.joints
+    row = np.zeros(pm.nq)
+    anc = np.zeros(pm.nq, dtype=bool)
+    if joint == 0:
+        return row, anc
     reach_own = float(np.linalg.norm(pts, axis=1).max()) + extra  # from the joint's origin
 
     def travel(j: int) -> float:
-        if joints[j].shortname() not in _PRISMATIC:
+        if joints[j].shortname() not in PRISMATIC_JOINTS:
             return 0.0
         i = joints[j].idx_q
         return float(max(abs(model.lower_bounds[i]), abs(model.upper_bounds[i])))
 
-    chain = [int(j) for j in pm.supports[jg]][1:]  # joints from the root down to jg
+    chain = [int(j) for j in pm.supports[joint]][1:]  # joints from the root down to joint
     # reach[n]: bound on the distance from joint chain[n]'s origin to the geometry, without
     # the first offset (kept apart to drop its component along the axis)
     tail = reach_own
@@ -235,10 +240,10 @@ def _geometry_motion_row(model: RobotModel, go) -> tuple[np.ndarray, np.ndarray]
         v = joints[j].idx_q
         anc[v] = True
         kind = joints[j].shortname()
-        if kind in _PRISMATIC:
+        if kind in PRISMATIC_JOINTS:
             row[v] = 1.0
             continue
-        if kind not in _REVOLUTE:
+        if kind not in REVOLUTE_JOINTS:
             row[v] = np.inf
             continue
         rest = chain[n + 1:]
