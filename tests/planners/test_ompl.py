@@ -8,6 +8,7 @@ import os
 import subprocess
 import sys
 import textwrap
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -502,6 +503,118 @@ def test_keep_upright_orientation_constraint_at_every_waypoint(ready_scene, add_
         assert cset.satisfied(w, scene)
     _assert_collision_free_at(scene, traj, 0.005)
     np.testing.assert_allclose(traj[-1].positions, goal.positions, atol=1e-12)
+
+
+def _violating_fraction(cset, scene, start, positions, step=None):
+    """Fraction of the states of the polyline through ``positions`` (group positions), ``step``
+    apart, that break the constraints; without ``step``, of the states the OMPL pipeline
+    checks on its edges."""
+    group = scene.robot_model.get_joint_model_group(ARM)
+    idx = group.variable_indices
+    base = start.positions.copy()
+    positions = np.asarray(positions)
+    if step is None:
+        checker = op._EdgeChecker(scene, group, base, None, op.DEFAULT_RESOLUTION, op.DEFAULT_SEARCH_RATIO)
+        dense = [a + (b - a) * (j / n) for a, b in zip(positions[:-1], positions[1:])
+                 for n in [checker.segments(a, b)] for j in range(n + 1)]
+    else:
+        dense = _dense(positions, step)
+    bad = 0
+    for x in dense:
+        q = base.copy()
+        q[idx] = x
+        bad += not cset.satisfied(RobotState(scene.robot_model, q), scene)
+    return bad / len(dense)
+
+
+def test_a_path_never_jumps_a_gap_in_a_position_region(ready_scene, pipeline):
+    """The hand must stay in one of two boxes 2 mm apart across y = 0, so no path leads from
+    one to the other. The straight motion between them jumps the gap between the states it
+    is checked at: constraints are proven between checked states, so the request fails."""
+    scene = ready_scene
+    start, goal = _state(scene, panda_joint1=-0.1), _state(scene, panda_joint1=0.113)
+    x, _, z = start.get_global_link_transform("panda_hand")[:3, 3]
+    box = msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.4, 0.098, 0.4])
+    sides = [msgs.Pose(position=msgs.Point(x=x, y=y, z=z), orientation=msgs.Quaternion(w=1.0)) for y in (-0.05, 0.05)]
+    pc = msgs.PositionConstraint(header=msgs.Header(frame_id="world"), link_name="panda_hand", weight=1.0,
+                                 constraint_region=msgs.BoundingVolume(primitives=[box, box], primitive_poses=sides))
+    c = msgs.Constraints(position_constraints=[pc])
+    cset = KinematicConstraintSet(scene.robot_model, c)
+    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
+    ends = np.array([start.positions[idx], goal.positions[idx]])
+    # the premise: every state the edge is checked at lies in a box; the motion between does not
+    assert _violating_fraction(cset, scene, start, ends) == 0.0
+    assert _violating_fraction(cset, scene, start, ends, 1e-4) > 0.0
+    result, _ = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=0.5, seed=0)
+    assert not result
+    assert result.message.startswith("TIMED_OUT")
+
+
+def test_a_path_never_jumps_a_thin_orientation_wall(ready_scene, pipeline):
+    """A z tolerance of pi - 0.006 leaves a wall 12 mrad thin at the half turn. With joints 1-6
+    held, the hand can only turn about z by joint 7, through the wall; the states of the
+    straight motion lie on either side of it, and the request fails."""
+    scene = ready_scene
+    start = scene.current_state.copy()
+    q7 = start.positions[6]
+    goal = _state(scene, panda_joint7=q7 + 0.05)
+    R = start.get_global_link_transform("panda_hand")[:3, :3]
+    c0 = math.pi - 0.01875  # the start's yaw error; the checked states are 12.5 mrad apart
+    oc = msgs.OrientationConstraint(
+        header=msgs.Header(frame_id="world"), link_name="panda_hand", weight=1.0,
+        orientation=msgs.matrix_to_quaternion(R @ np.array([[math.cos(c0), math.sin(c0), 0], [-math.sin(c0), math.cos(c0), 0], [0, 0, 1]])),
+        absolute_x_axis_tolerance=0.1, absolute_y_axis_tolerance=0.1, absolute_z_axis_tolerance=math.pi - 0.006,
+    )
+    held = [msgs.JointConstraint(joint_name=f"panda_joint{j}", position=float(start.positions[j - 1]),
+                                 tolerance_above=0.01, tolerance_below=0.01, weight=1.0) for j in range(1, 7)]
+    c = msgs.Constraints(orientation_constraints=[oc], joint_constraints=held)
+    cset = KinematicConstraintSet(scene.robot_model, c)
+    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
+    ends = np.array([start.positions[idx], goal.positions[idx]])
+    assert _violating_fraction(cset, scene, start, ends) == 0.0
+    assert _violating_fraction(cset, scene, start, ends, 1e-4) > 0.0
+    result, _ = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=0.5, seed=0)
+    assert not result
+    # with z free the same request is the straight motion
+    free = msgs.Constraints(orientation_constraints=[replace(oc, absolute_z_axis_tolerance=math.pi)], joint_constraints=held)
+    result, traj = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=free, timeout=0.5, seed=0)
+    assert result, result.message
+    assert pipeline.last_stats.planner == "straight line"
+
+
+def test_constrained_paths_hold_the_constraints_between_waypoints(ready_scene, pipeline):
+    """Upright-hand requests between hand-down poses: the constraints hold on the whole
+    polyline of every plan, checked 0.5 mrad apart, not only at its waypoints."""
+    scene = ready_scene
+    ready = scene.current_state
+    R0 = ready.get_global_link_transform("panda_hand")[:3, :3]
+    rng = np.random.default_rng(7)
+    planned = 0
+    for k in range(4):
+        tol = [(0.05, 0.1, 1.0), (0.1, 0.05, math.pi), (0.1, 0.1, 0.5), (0.3, 0.05, math.pi)][k]
+        oc = msgs.OrientationConstraint(
+            header=msgs.Header(frame_id="world"), link_name="panda_hand", weight=1.0,
+            orientation=msgs.matrix_to_quaternion(R0), absolute_x_axis_tolerance=tol[0],
+            absolute_y_axis_tolerance=tol[1], absolute_z_axis_tolerance=tol[2], parameterization=k % 2,
+        )
+        c = msgs.Constraints(orientation_constraints=[oc])
+        cset = KinematicConstraintSet(scene.robot_model, c)
+        ends = []
+        while len(ends) < 2:
+            T = np.eye(4)
+            T[:3, :3] = msgs.axis_angle_matrix(np.array([0.0, 0.0, 1.0]), rng.uniform(-0.4, 0.4) * min(tol[2], 1.0)) @ R0
+            phi = rng.uniform(-2.0, 2.0)
+            T[:3, 3] = [0.55 * math.cos(phi), 0.55 * math.sin(phi), rng.uniform(0.1, 0.6)]
+            st = ready.copy()
+            if st.set_from_ik(ARM, T, "panda_hand", timeout=0.05) and cset.satisfied(st, scene) \
+                    and not scene.is_state_colliding(st, ARM):
+                ends.append(st)
+        result, traj = pipeline.plan_joint(scene, ends[0], ends[1], ARM, path_constraints=c, timeout=5.0, seed=k)
+        assert result, result.message
+        idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
+        assert _violating_fraction(cset, scene, ends[0], traj.positions[:, idx], 5e-4) == 0.0
+        planned += 1
+    assert planned == 4
 
 
 # --- pose goals -------------------------------------------------------------------------------

@@ -3,9 +3,9 @@
 This is the only module that imports ``ompl``. :class:`OMPLPipeline` answers MoveIt-style
 motion plan requests (a joint goal or a pose goal, path constraints, a time budget, a number
 of attempts) with a geometric :class:`~mtc.scene.robot_trajectory.RobotTrajectory`: simplified,
-interpolated, collision-free at every state between its waypoints (proven, not sampled: see
-step 4) and inside the path constraints at every waypoint. Time parameterization is the
-caller's business (``PipelinePlanner``).
+interpolated, collision-free and inside the path constraints at every state between its
+waypoints (proven, not sampled: see step 4). Time parameterization is the caller's business
+(``PipelinePlanner``).
 
 How a request is answered (MoveIt's ``ompl_interface`` with its default request adapters):
 
@@ -32,8 +32,14 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    a state with that gap as coal's security margin covers a whole stretch of the edge;
    stretches not covered are halved). So the path is free at any interpolation resolution,
    as long as the robot's joints are revolute or prismatic (others: checked at every
-   :data:`DEFAULT_RESOLUTION` state, 0.015 rad). Path constraints hold at every
-   :data:`DEFAULT_RESOLUTION` state. An edge that fails is replanned (sub-searches of at most
+   :data:`DEFAULT_RESOLUTION` state, 0.015 rad). Position and orientation path constraints
+   are proven likewise (:meth:`_EdgeChecker._certify_constraints`: from a state, a
+   constraint's slack can shrink no faster than its point moves or its link turns, and that
+   speed, known at the state, grows at a bounded rate), where a bound exists: not for a
+   position region in a frame that moves with the robot, nor for Euler-angle tolerances that
+   leave the middle angle free; those are checked at every :data:`DEFAULT_RESOLUTION` state.
+   Joint constraints bound each joint to an interval, which a straight motion between two
+   states inside it never leaves. An edge that fails is replanned (sub-searches of at most
    :data:`REPAIR_CHECKS` checks whose paths are then proven); where that fails too, the whole
    search runs again, checking its edges in full, while there is time. Start and goal are
    exact; the goal tolerance
@@ -123,6 +129,10 @@ CERTIFY_MIN_MARGIN = 1e-6
 #: MotionBenchMaker box and bookshelf problems 1 mm, 3 mm, 1 cm and 3 cm all needed within 2%
 #: of the same state checks.
 CERTIFY_FREE_CHECK = 1e-2
+#: An interval of a motion over which the position and orientation constraints can change by
+#: less than this [m or rad] and that is still not proven to keep them fails (see
+#: :meth:`_EdgeChecker._certify_constraints`): the motion runs along a constraint's boundary.
+CONSTRAINT_MIN_CHANGE = 1e-12
 #: Start states outside the bounds by at most this much are moved onto them [rad or m]
 #: (``start_state_max_bounds_error`` of MoveIt's Panda configuration).
 START_STATE_MAX_BOUNDS_ERROR = 0.1
@@ -491,6 +501,11 @@ class _EdgeChecker:
         # robot's joints have them (revolute, prismatic), else edges are sampled finely
         self.certified = self._motion.certifiable
         self._touch_margins: np.ndarray | None = None  # see touching()
+        # position and orientation constraints are proven between the sampled states where
+        # their motion is bounded (see _certify_constraints), else only sampled
+        self._constraint_rates = None if self._constraints is None else self._constraints.motion_rates()
+        if self._constraint_rates is not None:
+            self._constraint_curvature = self._constraints.curvature_factors()
 
     def caches(self) -> tuple[set[bytes], ...]:
         """Copies of what is known valid or invalid so far (see :meth:`restore_caches`)."""
@@ -582,9 +597,9 @@ class _EdgeChecker:
                 self._fine_t[n] = t
         return t
 
-    def _check_params(self, a: np.ndarray, d: np.ndarray, t: np.ndarray) -> bool:
-        """Whether the states ``a + t_i d`` are valid, checked in the order of ``t`` (a column:
-        ``m x 1``)."""
+    def _check_params(self, a: np.ndarray, d: np.ndarray, t: np.ndarray, constraints: bool = True) -> bool:
+        """Whether the states ``a + t_i d`` are valid (collision-free, and where ``constraints``
+        the path constraints hold), checked in the order of ``t`` (a column: ``m x 1``)."""
         t0 = time.perf_counter()
         m = len(t)
         # the states are written into a buffer holding the base state (the other variables)
@@ -599,7 +614,7 @@ class _EdgeChecker:
             Q[:, self._cols] = a + t * d
         if self._mimic:
             self._model.enforce_mimic(Q)
-        cons = self._constraints
+        cons = self._constraints if constraints else None
         if cons is None:
             # the loop over the states runs in the motion checker (one Python call per edge)
             bad = self._first_colliding(Q)
@@ -648,9 +663,10 @@ class _EdgeChecker:
         return ok
 
     def edge_ok_fine(self, a: np.ndarray, b: np.ndarray) -> bool:
-        """Whether the edge is valid: collision-free at every state on it (certified, see
-        :meth:`_certify`; where the robot's joints allow no such bound, at every one of its
-        :meth:`segments` states), path constraints satisfied at the :meth:`segments` states."""
+        """Whether the edge is valid: collision-free and inside the path constraints at every
+        state on it (proven, see :meth:`_certify` and :meth:`_certify_constraints`; where the
+        robot's joints or a constraint allow no such bound, checked at every one of its
+        :meth:`segments` states)."""
         key = a.tobytes() + b.tobytes()
         if key in self._fine_edges:
             return True
@@ -660,9 +676,12 @@ class _EdgeChecker:
         if ok:
             d = b - a
             n = self._coarse_segments(d)
-            if self.ratio > 1 and (self._constraints is not None or not self.certified):
+            sampled = self._constraints is not None and self._constraint_rates is None
+            if self.ratio > 1 and (sampled or not self.certified):
                 rest = self._fine_params(n)  # the others were checked by edge_ok
-                ok = not rest.size or self._check_params(a, d, rest)
+                ok = not rest.size or self._check_params(a, d, rest, sampled)
+            if ok and self._constraint_rates is not None:
+                ok = self._certify_constraints(a, d, n * self.ratio)
             if ok and self.certified:
                 ok = self._certify(a, d, n)
         reverse = b.tobytes() + a.tobytes()
@@ -692,6 +711,62 @@ class _EdgeChecker:
         )
         self.states_checked += checks
         self.certify_checks += checks
+        self.check_time += time.perf_counter() - t0
+        return ok
+
+    def _certify_constraints(self, a: np.ndarray, d: np.ndarray, m: int) -> bool:
+        """Whether the position and orientation constraints hold at every state of the motion
+        ``a + t d``, t in [0, 1]; the states t = j / m are checked first.
+
+        Each constraint's slack (:meth:`ConstraintEvaluator.slacks_and_speeds`) shrinks at
+        most at the speed of its point or link, which is known at a state and changes along
+        the motion at most at the rate ``V`` of :meth:`ConstraintEvaluator.curvature_factors`
+        (and never exceeds the bound ``L`` of :meth:`ConstraintEvaluator.motion_rates`). So the
+        slack stays positive within a reach of each state (:func:`_slack_reach`), and an
+        interval is covered when its two ends' reaches add up to its length. Other intervals
+        have their middle state checked (the motion fails where a constraint is violated
+        there) and both halves covered in turn; an interval over which the constraints could
+        change by less than :data:`CONSTRAINT_MIN_CHANGE` and is still not covered fails: the
+        motion runs along a constraint's boundary."""
+        t0 = time.perf_counter()
+        qa = self.full(a)
+        D = self.full(a + d) - qa
+        L = self._constraint_rates @ np.abs(D)
+        if not L.any():
+            return True
+        cons = self._constraints
+        V = self._constraint_curvature * L * float(np.abs(D).sum())
+
+        def reach(t: float) -> np.ndarray:
+            s, w = cons.slacks_and_speeds(qa + t * D, D)
+            return _slack_reach(np.array(s), np.array(w), L, V)
+
+        S, W = zip(*(cons.slacks_and_speeds(qa + (j / m) * D, D) for j in range(m + 1)))
+        R = _slack_reach(np.array(S), np.array(W), L, V)
+        checks = m + 1
+        open_ = np.nonzero(~np.all(R[:-1] + R[1:] > 1.0 / m, axis=1))[0]
+        stack = [(j / m, (j + 1) / m, R[j], R[j + 1]) for j in open_[::-1].tolist()]
+        ok = bool(R.min() >= 0.0)
+        if not ok:
+            stack = []
+        while stack:
+            lo, hi, r0, r1 = stack.pop()
+            h = hi - lo
+            uncovered = r0 + r1 <= h
+            if not uncovered.any():
+                continue
+            if (L[uncovered] * h).max() < CONSTRAINT_MIN_CHANGE:
+                ok = False
+                break
+            mid = 0.5 * (lo + hi)
+            rm = reach(mid)
+            checks += 1
+            if rm.min() < 0.0:
+                ok = False
+                break
+            stack.append((mid, hi, rm, r1))
+            stack.append((lo, mid, r0, rm))
+        self.states_checked += checks
         self.check_time += time.perf_counter() - t0
         return ok
 
@@ -790,6 +865,19 @@ class _EdgeChecker:
             if not self.edge_ok_fine(path[i], path[i + 1]):
                 return i
         return -1
+
+
+def _slack_reach(s: np.ndarray, w: np.ndarray, L: np.ndarray, V: np.ndarray) -> np.ndarray:
+    """Per constraint, how far along a motion (in its parameter) from a state its slack stays
+    positive: slack ``s``, shrinking at first at speed ``w``, a speed that grows at most at
+    rate ``V`` and never exceeds ``L``; the first ``tau`` with ``w tau + V tau^2 / 2 = s``, or
+    ``s / L`` where that is farther. -1 where a constraint is violated (``s < 0``); inf where
+    the motion cannot change it (``L = 0``)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        quadratic = 2.0 * s / (w + np.sqrt(w * w + 2.0 * V * s))
+        out = np.maximum(quadratic, s / L)
+    out = np.where(L > 0.0, out, np.inf)
+    return np.where(s < 0.0, -1.0, out)
 
 
 class _Overrun(Exception):
