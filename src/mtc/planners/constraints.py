@@ -610,6 +610,8 @@ class ConstraintEvaluator:
                 frame = (None, frame[1].inverse())  # fixed: keep the inverse
             self._orientations.append((o, link, frame))
         self._kinematic = bool(self._positions or self._orientations)
+        # each position constraint's point in its link's frame (for its velocity)
+        self._local_points = [tuple(off.act(p.offset).tolist()) for p, (_, off), _ in self._positions]
 
     def _ref(self, resolved):
         if resolved[0] == "fixed":
@@ -649,13 +651,14 @@ class ConstraintEvaluator:
     def _diff(self, link_ref, frame_ref) -> np.ndarray:
         """Rotation from an orientation constraint's target to its link, at the kinematics last
         computed."""
+        # (composed as pin.SE3 in C++: cheaper than numpy's products of the rotations)
         data = self._data
         fid, offset = link_ref
-        R_link = offset.rotation if fid is None else data.oMf[fid].rotation @ offset.rotation
+        link = offset if fid is None else data.oMf[fid] * offset
         fid, offset = frame_ref
         if fid is None:
-            return offset.rotation @ R_link  # offset holds the inverse of header * target
-        return (data.oMf[fid].rotation @ offset.rotation).T @ R_link
+            return (offset * link).rotation  # offset holds the inverse of header * target
+        return (data.oMf[fid] * offset).actInv(link).rotation
 
     def _terms(self, q: np.ndarray):
         """Yields (kind, constraint, weighted violation) of every constraint."""
@@ -743,29 +746,31 @@ class ConstraintEvaluator:
 
     def slacks_and_speeds(self, q: np.ndarray, dq: np.ndarray) -> tuple[list[float], list[float]]:
         """:meth:`slacks` at ``q``, and per constraint how fast its point moves [m] or its link
-        turns relative to the header [rad] per unit of the motion ``dq`` at ``q`` (from the
-        Jacobians): the rate at which its slack can shrink there."""
+        turns relative to the header [rad] per unit of the motion ``dq`` at ``q``: the rate at
+        which its slack can shrink there."""
         pm, data = self._pm, self._data
-        pin.computeJointJacobians(pm, data, q)  # (with the forward kinematics)
+        pin.forwardKinematics(pm, data, q, dq)  # placements and velocities along dq
         for fid in self._frame_ids:
             pin.updateFramePlacement(pm, data, fid)
         slacks = self._slack_values()
         speeds = []
-        frame = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-        for p, (fid, off), _ in self._positions:
+        local, aligned = pin.ReferenceFrame.LOCAL, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
+        for (fid, _), point in zip((link for _, link, _ in self._positions), self._local_points):
             if fid is None:
                 speeds.append(0.0)
                 continue
-            v = pin.getFrameJacobian(pm, data, fid, frame) @ dq
-            lever = (data.oMf[fid] * off).act(p.offset) - data.oMf[fid].translation
-            speeds.append(float(np.linalg.norm(v[:3] + np.cross(v[3:], lever))))
+            vx, vy, vz, wx, wy, wz = pin.getFrameVelocity(pm, data, fid, local).vector.tolist()
+            px, py, pz = point
+            speeds.append(math.sqrt((vx + wy * pz - wz * py) ** 2 + (vy + wz * px - wx * pz) ** 2
+                                    + (vz + wx * py - wy * px) ** 2))
         for _, (fid, _), (hid, _) in self._orientations:
-            w = np.zeros(3)
+            w = [0.0, 0.0, 0.0]
             if fid is not None:
-                w += pin.getFrameJacobian(pm, data, fid, frame)[3:] @ dq
+                w = pin.getFrameVelocity(pm, data, fid, aligned).angular.tolist()
             if hid is not None:
-                w -= pin.getFrameJacobian(pm, data, hid, frame)[3:] @ dq
-            speeds.append(float(np.linalg.norm(w)))
+                wh = pin.getFrameVelocity(pm, data, hid, aligned).angular.tolist()
+                w = [a - b for a, b in zip(w, wh)]
+            speeds.append(math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2))
         return slacks, speeds
 
     def _slack_values(self) -> list[float]:

@@ -723,9 +723,9 @@ class _EdgeChecker:
         the motion at most at the rate ``V`` of :meth:`ConstraintEvaluator.curvature_factors`
         (and never exceeds the bound ``L`` of :meth:`ConstraintEvaluator.motion_rates`). So the
         slack stays positive within a reach of each state (:func:`_slack_reach`), and an
-        interval is covered when its two ends' reaches add up to its length. Other intervals
-        have their middle state checked (the motion fails where a constraint is violated
-        there) and both halves covered in turn; an interval over which the constraints could
+        interval is covered when its two ends' reaches add up to its length. The others are
+        halved, a level at a time, their middle states checked (the motion fails where a
+        constraint is violated there); an interval over which the constraints could
         change by less than :data:`CONSTRAINT_MIN_CHANGE` and is still not covered fails: the
         motion runs along a constraint's boundary."""
         t0 = time.perf_counter()
@@ -737,35 +737,32 @@ class _EdgeChecker:
         cons = self._constraints
         V = self._constraint_curvature * L * float(np.abs(D).sum())
 
-        def reach(t: float) -> np.ndarray:
-            s, w = cons.slacks_and_speeds(qa + t * D, D)
-            return _slack_reach(np.array(s), np.array(w), L, V)
+        def reach(ts: np.ndarray) -> np.ndarray:
+            S, W = zip(*(cons.slacks_and_speeds(qa + t * D, D) for t in ts.tolist()))
+            return _slack_reach(np.array(S), np.array(W), L, V)
 
-        S, W = zip(*(cons.slacks_and_speeds(qa + (j / m) * D, D) for j in range(m + 1)))
-        R = _slack_reach(np.array(S), np.array(W), L, V)
+        # intervals (lo, hi) with their ends' reaches, halved level by level until covered
+        t = np.arange(m + 1) / m
+        R = reach(t)
         checks = m + 1
-        open_ = np.nonzero(~np.all(R[:-1] + R[1:] > 1.0 / m, axis=1))[0]
-        stack = [(j / m, (j + 1) / m, R[j], R[j + 1]) for j in open_[::-1].tolist()]
+        lo, hi, r0, r1 = t[:-1], t[1:], R[:-1], R[1:]
         ok = bool(R.min() >= 0.0)
-        if not ok:
-            stack = []
-        while stack:
-            lo, hi, r0, r1 = stack.pop()
-            h = hi - lo
+        while ok:
+            h = (hi - lo)[:, None]
             uncovered = r0 + r1 <= h
-            if not uncovered.any():
-                continue
-            if (L[uncovered] * h).max() < CONSTRAINT_MIN_CHANGE:
+            keep = uncovered.any(axis=1)
+            if not keep.any():
+                break
+            lo, hi, r0, r1, h, uncovered = lo[keep], hi[keep], r0[keep], r1[keep], h[keep], uncovered[keep]
+            if (np.where(uncovered, L * h, 0.0).max(axis=1) < CONSTRAINT_MIN_CHANGE).any():
                 ok = False
                 break
             mid = 0.5 * (lo + hi)
             rm = reach(mid)
-            checks += 1
-            if rm.min() < 0.0:
-                ok = False
-                break
-            stack.append((mid, hi, rm, r1))
-            stack.append((lo, mid, r0, rm))
+            checks += len(mid)
+            ok = bool(rm.min() >= 0.0)
+            lo, hi = np.concatenate([lo, mid]), np.concatenate([mid, hi])
+            r0, r1 = np.concatenate([r0, rm]), np.concatenate([rm, r1])
         self.states_checked += checks
         self.check_time += time.perf_counter() - t0
         return ok
@@ -775,7 +772,7 @@ class _EdgeChecker:
         line to the goal): the first balls of the proof (:meth:`_certify`) are checked in
         bisection order, each not clear one also for a collision, so a blocked edge is found
         out after a few checks; the sampled states need no checks of their own (the balls
-        cover them). With path constraints (they are sampled), as :meth:`edge_ok_fine`."""
+        cover them). With path constraints, as :meth:`edge_ok_fine`."""
         if self._constraints is not None or not self.certified:
             return self.edge_ok_fine(a, b)
         key = a.tobytes() + b.tobytes()
