@@ -582,6 +582,22 @@ def test_a_path_never_jumps_a_thin_orientation_wall(ready_scene, pipeline):
     assert pipeline.last_stats.planner == "straight line"
 
 
+@pytest.mark.parametrize("parameterization", [0, 1])
+def test_an_orientation_constraint_free_about_every_axis_blocks_nothing(ready_scene, pipeline, parameterization):
+    """Tolerances of pi (or 3.14) about every axis: no orientation violates them, so the
+    proof between states has nothing to bound and the straight motion is the answer."""
+    start, goal = ready_scene.current_state, _state(ready_scene, panda_joint1=1.0)
+    oc = msgs.OrientationConstraint(
+        header=msgs.Header(frame_id="world"), link_name="panda_hand", orientation=msgs.Quaternion(w=1.0), weight=1.0,
+        absolute_x_axis_tolerance=math.pi, absolute_y_axis_tolerance=math.pi, absolute_z_axis_tolerance=3.14,
+        parameterization=parameterization,
+    )
+    result, _ = pipeline.plan_joint(ready_scene, start, goal, ARM, timeout=1.0, seed=0,
+                                    path_constraints=msgs.Constraints(orientation_constraints=[oc]))
+    assert result, result.message
+    assert pipeline.last_stats.planner == "straight line"
+
+
 def test_constrained_paths_hold_the_constraints_between_waypoints(ready_scene, pipeline):
     """Upright-hand requests between hand-down poses: the constraints hold on the whole
     polyline of every plan, checked 0.5 mrad apart, not only at its waypoints."""

@@ -719,6 +719,9 @@ class ConstraintEvaluator:
             above = [set() if f is None else {int(j) for j in pm.supports[pm.frames[f].parentJoint]} - {0}
                      for f in (fid, hid)]
             row = np.zeros(pm.nq)
+            if not any(o._gains):
+                rows.append(row)  # free about every axis: nothing can violate it
+                continue
             for j in above[0] ^ above[1]:
                 kind = pm.joints[j].shortname()
                 if kind in REVOLUTE_JOINTS:
