@@ -252,9 +252,9 @@ def _rate_gains(parameterization: int, tol: tuple) -> tuple[float, float, float]
     gy = 1.0 if ty < math.pi / 2 else 0.0
     if tx >= math.pi and tz >= math.pi:
         return (0.0, gy, 0.0)
-    if not gy or 1.0 / math.cos(ty) > _MAX_RATE_GAIN:
+    g = 1.0 / math.cos(ty) if gy else math.inf
+    if g > _MAX_RATE_GAIN:
         return None
-    g = 1.0 / math.cos(ty)
     return (g if tx < math.pi else 0.0, 1.0, g if tz < math.pi else 0.0)
 
 
