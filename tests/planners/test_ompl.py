@@ -598,6 +598,31 @@ def test_an_orientation_constraint_free_about_every_axis_blocks_nothing(ready_sc
     assert pipeline.last_stats.planner == "straight line"
 
 
+def test_a_proof_of_path_constraints_gives_up_at_the_deadline(ready_scene):
+    """Turning joint 1 keeps the hand level: a tilt tolerance of 1e-4 as a rotation vector
+    (bounded through the angular speed alone) takes a long proof, which the checker's deadline
+    cuts short: the edge then fails."""
+    scene = ready_scene
+    group = scene.robot_model.get_joint_model_group(ARM)
+    start = scene.current_state
+    R = start.get_global_link_transform("panda_hand")[:3, :3]
+    oc = msgs.OrientationConstraint(
+        header=msgs.Header(frame_id="world"), link_name="panda_hand", orientation=msgs.matrix_to_quaternion(R),
+        absolute_x_axis_tolerance=1e-4, absolute_y_axis_tolerance=1e-4, absolute_z_axis_tolerance=math.pi,
+        parameterization=msgs.OrientationConstraint.ROTATION_VECTOR, weight=1.0,
+    )
+    ev = KinematicConstraintSet(scene.robot_model, msgs.Constraints(orientation_constraints=[oc])).bind(scene)
+    a = start.positions[group.variable_indices]
+    b = a + np.eye(len(a))[0]
+    checks = []
+    for deadline, valid in ((math.inf, True), (0.0, False)):
+        checker = op._EdgeChecker(scene, group, start.positions, ev, op.DEFAULT_RESOLUTION, op.DEFAULT_SEARCH_RATIO)
+        checker.deadline = deadline
+        assert checker.edge_ok_fine(a, b) is valid
+        checks.append(checker.states_checked)
+    assert checks[0] > 10 * checks[1]
+
+
 def test_constrained_paths_hold_the_constraints_between_waypoints(ready_scene, pipeline):
     """Upright-hand requests between hand-down poses: the constraints hold on the whole
     polyline of every plan, checked 0.5 mrad apart, not only at its waypoints."""

@@ -258,6 +258,20 @@ def _rate_gains(parameterization: int, tol: tuple) -> tuple[float, float, float]
     return (g if tx < math.pi else 0.0, 1.0, g if tz < math.pi else 0.0)
 
 
+def _reach(slack: float, rate: float, growth: float, cap: float) -> float:
+    """How far (in a motion's parameter) a slack stays positive that shrinks at first at
+    ``rate``, a rate that grows at most at ``growth`` per unit and never exceeds ``cap``: the
+    first ``tau`` with ``rate tau + growth tau^2 / 2 = slack``, or ``slack / cap`` where that is
+    farther. -1 for a negative slack (violated), inf where ``cap`` is 0 (nothing moves it)."""
+    if slack < 0.0:
+        return -1.0
+    if cap <= 0.0 or slack == math.inf:
+        return math.inf
+    denominator = rate + math.sqrt(rate * rate + 2.0 * growth * slack)
+    quadratic = 2.0 * slack / denominator if denominator > 0.0 else math.inf
+    return max(quadratic, slack / cap)
+
+
 def _parse_region(pc: msgs.PositionConstraint, where: str) -> tuple:
     volume = pc.constraint_region
     if volume.meshes:
@@ -611,7 +625,7 @@ class ConstraintEvaluator:
             self._orientations.append((o, link, frame))
         self._kinematic = bool(self._positions or self._orientations)
         # each position constraint's point in its link's frame (for its velocity)
-        self._local_points = [tuple(off.act(p.offset).tolist()) for p, (_, off), _ in self._positions]
+        self._local_points = [off.act(p.offset) for p, (_, off), _ in self._positions]
 
     def _ref(self, resolved):
         if resolved[0] == "fixed":
@@ -732,14 +746,6 @@ class ConstraintEvaluator:
         out = np.array(rows).reshape(len(rows), pm.nq)
         return out if np.all(np.isfinite(out)) else None
 
-    def curvature_factors(self) -> np.ndarray:
-        """Per constraint (as :meth:`motion_rates`), ``k`` such that along a straight motion
-        ``dq`` the speed of :meth:`slacks_and_speeds` changes per unit of the motion by at most
-        ``k * (row @ |dq|) * sum(|dq|)``: an orientation constraint's angular velocity changes
-        as the joints above turn the axes of the joints below (``k = 1``); a position
-        constraint's point velocity has two such terms (``k = 2``)."""
-        return np.array([2.0] * len(self._positions) + [1.0] * len(self._orientations))
-
     def slacks(self, q: np.ndarray) -> list[float]:
         """How far the full joint vector ``q`` is inside each position and orientation
         constraint (in the order of :meth:`motion_rates`): how far the point must move [m], or
@@ -747,34 +753,81 @@ class ConstraintEvaluator:
         self._kinematics(q)
         return self._slack_values()
 
-    def slacks_and_speeds(self, q: np.ndarray, dq: np.ndarray) -> tuple[list[float], list[float]]:
-        """:meth:`slacks` at ``q``, and per constraint how fast its point moves [m] or its link
-        turns relative to the header [rad] per unit of the motion ``dq`` at ``q``: the rate at
-        which its slack can shrink there."""
+    def reaches(self, q: np.ndarray, dq: np.ndarray, rates: np.ndarray) -> list[float]:
+        """Per position and orientation constraint (in the order of :meth:`motion_rates`), a
+        length ``tau`` of the straight motion ``q + t dq`` over which it holds: for every
+        ``|t| < tau``. -1 where it is violated at ``q``; inf where the motion cannot change it.
+        ``rates``: :meth:`motion_rates` ``@ |dq|`` (which must not be None).
+
+        A slack shrinks at first at the rate it has at ``q``, a rate that grows at most at a
+        bounded pace along the motion (:func:`_reach`). A position constraint's point nears a
+        box's face as fast as its velocity's component across it, and a sphere's or cylinder's
+        surface at most as fast as it moves; its velocity changes by at most
+        ``2 L sum(|dq|)`` per unit of the motion, as the joints above turn the axes and levers
+        of the joints below. The constraint holds while the point stays in any one region. An orientation constraint's error components shrink their
+        margins at their own rates (Euler angles: the angular velocity relative to the header
+        mapped through the angles' Jacobian, see :func:`_rate_gains`), so turning about a free
+        axis costs no reach; its angular velocity changes by at most ``L sum(|dq|)`` (twice
+        that where the header turns too), and the Jacobian as the angles change. A rotation
+        vector's margins are bounded through the angular speed alone."""
         pm, data = self._pm, self._data
         pin.forwardKinematics(pm, data, q, dq)  # placements and velocities along dq
         for fid in self._frame_ids:
             pin.updateFramePlacement(pm, data, fid)
-        slacks = self._slack_values()
-        speeds = []
+        spread = float(np.abs(dq).sum())
+        rates = rates.tolist()
+        out = []
         local, aligned = pin.ReferenceFrame.LOCAL, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-        for (fid, _), point in zip((link for _, link, _ in self._positions), self._local_points):
-            if fid is None:
-                speeds.append(0.0)
-                continue
-            vx, vy, vz, wx, wy, wz = pin.getFrameVelocity(pm, data, fid, local).vector.tolist()
-            px, py, pz = point
-            speeds.append(math.sqrt((vx + wy * pz - wz * py) ** 2 + (vy + wz * px - wx * pz) ** 2
-                                    + (vz + wx * py - wy * px) ** 2))
-        for _, (fid, _), (hid, _) in self._orientations:
+        for (p, link_ref, frame_ref), point, L in zip(self._positions, self._local_points, rates):
+            header = self._pose(frame_ref)
+            point_h = header.actInv(self._pose(link_ref).act(p.offset))
+            velocity = np.zeros(3)  # the point's, in the header frame (which does not move)
+            if link_ref[0] is not None:
+                v = pin.getFrameVelocity(pm, data, link_ref[0], local)
+                moving = data.oMf[link_ref[0]].rotation @ (v.linear + np.cross(v.angular, point))
+                velocity = header.rotation.T @ moving
+            speed = float(np.linalg.norm(velocity))
+            growth = 2.0 * L * spread
+            best = -1.0  # the point holds the constraint while it stays in any one region
+            for r in p.regions:
+                x = r.pose_inv.act(point_h)
+                if r.kind == msgs.SolidPrimitive.BOX:  # each face at the rate the point nears it
+                    v_r = (r.pose_inv.rotation @ velocity).tolist()
+                    reach = min(_reach(d + _EPS - abs(c), abs(vc), growth, L)
+                                for d, c, vc in zip(r.dims, x.tolist(), v_r))
+                else:
+                    reach = _reach(r.inside_local(x) + _EPS, speed, growth, L)
+                best = max(best, reach)
+            out.append(best)
+        for (o, link_ref, (hid, hoff)), L in zip(self._orientations, rates[len(self._positions):]):
+            fid = link_ref[0]
+            diff = self._diff(link_ref, (hid, hoff))
             w = [0.0, 0.0, 0.0]
             if fid is not None:
                 w = pin.getFrameVelocity(pm, data, fid, aligned).angular.tolist()
             if hid is not None:
                 wh = pin.getFrameVelocity(pm, data, hid, aligned).angular.tolist()
                 w = [a - b for a, b in zip(w, wh)]
-            speeds.append(math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2))
-        return slacks, speeds
+            if o.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR or not any(o._gains):
+                speed = math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
+                out.append(_reach(o.diff_slack(diff), speed, L * spread, L))
+                continue
+            # the angular velocity in the frame the Euler angles are taken in (the target's)
+            R_ref_T = (hoff if hid is None else (data.oMf[hid] * hoff).inverse()).rotation
+            wx, wy, wz = (R_ref_T @ np.array(w)).tolist()
+            a, b, c = _euler_xyz_list(diff.tolist())
+            sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
+            u3w = sb * wx - sa * cb * wy + ca * cb * wz
+            rates_abc = ((wx - sb * u3w) / (cb * cb), ca * wy + sa * wz, (u3w - sb * wx) / (cb * cb))
+            g = 1.0 / math.cos(o._tol[1])  # bounds the rates of a and c while |b| <= its tolerance
+            turn = (1.0 if hid is None else 2.0) * L * spread  # growth of the angular velocity
+            best = math.inf
+            for e, rate, t, gk in zip((a, b, c), rates_abc, o._tol, o._gains):
+                if gk:
+                    growth = gk * (turn + g * (g + 2.0) * L * L)
+                    best = min(best, _reach(t + _EPS - abs(e), abs(rate), growth, gk * L))
+            out.append(best)
+        return out
 
     def _slack_values(self) -> list[float]:
         """:meth:`slacks` at the kinematics last computed."""

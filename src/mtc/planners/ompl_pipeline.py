@@ -133,6 +133,10 @@ CERTIFY_FREE_CHECK = 1e-2
 #: less than this [m or rad] and that is still not proven to keep them fails (see
 #: :meth:`_EdgeChecker._certify_constraints`): the motion runs along a constraint's boundary.
 CONSTRAINT_MIN_CHANGE = 1e-12
+#: A proof of path constraints that would check more states than this along one edge gives the
+#: edge up (see :meth:`_EdgeChecker._certify_constraints`): about 0.4 s of checks. A motion
+#: that keeps a zero tolerance (up to rounding) needs about 40 000.
+CONSTRAINT_PROOF_STATES = 50_000
 #: Start states outside the bounds by at most this much are moved onto them [rad or m]
 #: (``start_state_max_bounds_error`` of MoveIt's Panda configuration).
 START_STATE_MAX_BOUNDS_ERROR = 0.1
@@ -504,8 +508,7 @@ class _EdgeChecker:
         # position and orientation constraints are proven between the sampled states where
         # their motion is bounded (see _certify_constraints), else only sampled
         self._constraint_rates = None if self._constraints is None else self._constraints.motion_rates()
-        if self._constraint_rates is not None:
-            self._constraint_curvature = self._constraints.curvature_factors()
+        self.deadline = math.inf  # past it, proofs of path constraints give up (the edge fails)
 
     def caches(self) -> tuple[set[bytes], ...]:
         """Copies of what is known valid or invalid so far (see :meth:`restore_caches`)."""
@@ -681,7 +684,7 @@ class _EdgeChecker:
                 rest = self._fine_params(n)  # the others were checked by edge_ok
                 ok = not rest.size or self._check_params(a, d, rest, sampled)
             if ok and self._constraint_rates is not None:
-                ok = self._certify_constraints(a, d, n * self.ratio)
+                ok = self._certify_constraints(a, d, n)
             if ok and self.certified:
                 ok = self._certify(a, d, n)
         reverse = b.tobytes() + a.tobytes()
@@ -718,28 +721,25 @@ class _EdgeChecker:
         """Whether the position and orientation constraints hold at every state of the motion
         ``a + t d``, t in [0, 1]; the states t = j / m are checked first.
 
-        Each constraint's slack (:meth:`ConstraintEvaluator.slacks_and_speeds`) shrinks at
-        most at the speed of its point or link, which is known at a state and changes along
-        the motion at most at the rate ``V`` of :meth:`ConstraintEvaluator.curvature_factors`
-        (and never exceeds the bound ``L`` of :meth:`ConstraintEvaluator.motion_rates`). So the
-        slack stays positive within a reach of each state (:func:`_slack_reach`), and an
-        interval is covered when its two ends' reaches add up to its length. The others are
+        Each constraint holds within a reach of a state where it holds
+        (:meth:`ConstraintEvaluator.reaches`: its slack shrinks at first at the rate it has
+        there, a rate that grows at a bounded pace along the motion), so an interval is
+        covered when its two ends' reaches add up to its length. The others are
         halved, a level at a time, their middle states checked (the motion fails where a
         constraint is violated there); an interval over which the constraints could
         change by less than :data:`CONSTRAINT_MIN_CHANGE` and is still not covered fails: the
-        motion runs along a constraint's boundary."""
+        motion runs along a constraint's boundary. So does a proof still running at
+        :attr:`deadline` or due to check more than :data:`CONSTRAINT_PROOF_STATES` states."""
         t0 = time.perf_counter()
         qa = self.full(a)
         D = self.full(a + d) - qa
         L = self._constraint_rates @ np.abs(D)
         if not L.any():
             return True
-        cons = self._constraints
-        V = self._constraint_curvature * L * float(np.abs(D).sum())
+        reaches = self._constraints.reaches
 
         def reach(ts: np.ndarray) -> np.ndarray:
-            S, W = zip(*(cons.slacks_and_speeds(qa + t * D, D) for t in ts.tolist()))
-            return _slack_reach(np.array(S), np.array(W), L, V)
+            return np.array([reaches(qa + t * D, D, L) for t in ts.tolist()])
 
         # intervals (lo, hi) with their ends' reaches, halved level by level until covered
         t = np.arange(m + 1) / m
@@ -748,6 +748,9 @@ class _EdgeChecker:
         lo, hi, r0, r1 = t[:-1], t[1:], R[:-1], R[1:]
         ok = bool(R.min() >= 0.0)
         while ok:
+            if time.perf_counter() > self.deadline:
+                ok = False
+                break
             h = (hi - lo)[:, None]
             uncovered = r0 + r1 <= h
             keep = uncovered.any(axis=1)
@@ -758,6 +761,9 @@ class _EdgeChecker:
                 ok = False
                 break
             mid = 0.5 * (lo + hi)
+            if checks + len(mid) > CONSTRAINT_PROOF_STATES:
+                ok = False
+                break
             rm = reach(mid)
             checks += len(mid)
             ok = bool(rm.min() >= 0.0)
@@ -862,19 +868,6 @@ class _EdgeChecker:
             if not self.edge_ok_fine(path[i], path[i + 1]):
                 return i
         return -1
-
-
-def _slack_reach(s: np.ndarray, w: np.ndarray, L: np.ndarray, V: np.ndarray) -> np.ndarray:
-    """Per constraint, how far along a motion (in its parameter) from a state its slack stays
-    positive: slack ``s``, shrinking at first at speed ``w``, a speed that grows at most at
-    rate ``V`` and never exceeds ``L``; the first ``tau`` with ``w tau + V tau^2 / 2 = s``, or
-    ``s / L`` where that is farther. -1 where a constraint is violated (``s < 0``); inf where
-    the motion cannot change it (``L = 0``)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        quadratic = 2.0 * s / (w + np.sqrt(w * w + 2.0 * V * s))
-        out = np.maximum(quadratic, s / L)
-    out = np.where(L > 0.0, out, np.inf)
-    return np.where(s < 0.0, -1.0, out)
 
 
 class _Overrun(Exception):
@@ -1288,6 +1281,7 @@ class OMPLPipeline:
         except (KeyError, ValueError) as e:
             return None, self._fail(None, invalid_constraints(e))
         checker = _EdgeChecker(scene, jmg, base, evaluator, self.resolution, self.search_ratio)
+        checker.deadline = t0 + timeout
         req = _Request(
             scene, jmg, start, base, x, original, lower, upper, constraints, evaluator, checker, t0 + timeout, t0,
             turns, free_turning,
