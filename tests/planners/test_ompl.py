@@ -599,19 +599,20 @@ def test_an_orientation_constraint_free_about_every_axis_blocks_nothing(ready_sc
 
 
 def test_a_proof_of_path_constraints_gives_up_at_the_deadline(ready_scene):
-    """Turning joint 1 keeps the hand level: a tilt tolerance of 1e-4 as a rotation vector
-    (bounded through the angular speed alone) takes a long proof, which the checker's deadline
-    cuts short: the edge then fails."""
+    """Turning joint 1 moves the hand along a circle about the base's z axis: inside a
+    cylinder 10 um wider than that circle, which the proof bounds by the hand's speed alone,
+    it takes a long proof that the checker's deadline cuts short (the edge then fails)."""
     scene = ready_scene
     group = scene.robot_model.get_joint_model_group(ARM)
     start = scene.current_state
-    R = start.get_global_link_transform("panda_hand")[:3, :3]
-    oc = msgs.OrientationConstraint(
-        header=msgs.Header(frame_id="world"), link_name="panda_hand", orientation=msgs.matrix_to_quaternion(R),
-        absolute_x_axis_tolerance=1e-4, absolute_y_axis_tolerance=1e-4, absolute_z_axis_tolerance=math.pi,
-        parameterization=msgs.OrientationConstraint.ROTATION_VECTOR, weight=1.0,
+    x, y, z = start.get_global_link_transform("panda_hand")[:3, 3]
+    cylinder = msgs.SolidPrimitive(type=msgs.SolidPrimitive.CYLINDER, dimensions=[0.2, math.hypot(x, y) + 1e-5])
+    pc = msgs.PositionConstraint(
+        header=msgs.Header(frame_id="world"), link_name="panda_hand", weight=1.0,
+        constraint_region=msgs.BoundingVolume(primitives=[cylinder], primitive_poses=[
+            msgs.Pose(position=msgs.Point(z=float(z)), orientation=msgs.Quaternion(w=1.0))]),
     )
-    ev = KinematicConstraintSet(scene.robot_model, msgs.Constraints(orientation_constraints=[oc])).bind(scene)
+    ev = KinematicConstraintSet(scene.robot_model, msgs.Constraints(position_constraints=[pc])).bind(scene)
     a = start.positions[group.variable_indices]
     b = a + np.eye(len(a))[0]
     checks = []

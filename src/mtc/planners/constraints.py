@@ -227,6 +227,9 @@ class _Orientation:
         return best
 
 
+#: Bound on how fast the inverse Jacobian of the rotation vector changes, per unit of the
+#: vector's own rate, at any angle up to pi (its largest value, 1.29, is at pi).
+ROTATION_VECTOR_CURVATURE = 1.3
 #: Largest rate gain (see :func:`_rate_gains`) for which an orientation constraint is proven
 #: between the states a planner checks; beyond it only the states are checked.
 _MAX_RATE_GAIN = 1e3
@@ -765,11 +768,11 @@ class ConstraintEvaluator:
         surface at most as fast as it moves; its velocity changes by at most
         ``2 L sum(|dq|)`` per unit of the motion, as the joints above turn the axes and levers
         of the joints below. The constraint holds while the point stays in any one region. An orientation constraint's error components shrink their
-        margins at their own rates (Euler angles: the angular velocity relative to the header
-        mapped through the angles' Jacobian, see :func:`_rate_gains`), so turning about a free
-        axis costs no reach; its angular velocity changes by at most ``L sum(|dq|)`` (twice
-        that where the header turns too), and the Jacobian as the angles change. A rotation
-        vector's margins are bounded through the angular speed alone."""
+        margins at their own rates: the angular velocity relative to the header, in the
+        target's frame, mapped through the Jacobian of the Euler angles or of the rotation
+        vector (:func:`_rate_gains`), so turning about a free axis costs no reach. The angular
+        velocity changes by at most ``L sum(|dq|)`` per unit (twice that where the header turns
+        too), and the Jacobian as the angles change."""
         pm, data = self._pm, self._data
         pin.forwardKinematics(pm, data, q, dq)  # placements and velocities along dq
         for fid in self._frame_ids:
@@ -808,23 +811,38 @@ class ConstraintEvaluator:
             if hid is not None:
                 wh = pin.getFrameVelocity(pm, data, hid, aligned).angular.tolist()
                 w = [a - b for a, b in zip(w, wh)]
-            if o.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR or not any(o._gains):
-                speed = math.sqrt(w[0] ** 2 + w[1] ** 2 + w[2] ** 2)
-                out.append(_reach(o.diff_slack(diff), speed, L * spread, L))
+            if not any(o._gains):
+                out.append(math.inf)  # free about every axis
                 continue
-            # the angular velocity in the frame the Euler angles are taken in (the target's)
+            # the angular velocity in the frame the angles are taken in (the target's)
             R_ref_T = (hoff if hid is None else (data.oMf[hid] * hoff).inverse()).rotation
-            wx, wy, wz = (R_ref_T @ np.array(w)).tolist()
-            a, b, c = _euler_xyz_list(diff.tolist())
-            sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
-            u3w = sb * wx - sa * cb * wy + ca * cb * wz
-            rates_abc = ((wx - sb * u3w) / (cb * cb), ca * wy + sa * wz, (u3w - sb * wx) / (cb * cb))
-            g = 1.0 / math.cos(o._tol[1])  # bounds the rates of a and c while |b| <= its tolerance
+            ws = R_ref_T @ np.array(w)
+            if o.parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
+                # d/dt log(diff) = J^-1 ws, J^-1 = I - [r]x / 2 + beta [r]x^2 (the left Jacobian)
+                r = rotation_vector(diff)
+                theta = float(np.linalg.norm(r))
+                if theta < 1e-4:
+                    beta = 1.0 / 12.0 + theta * theta / 720.0
+                else:
+                    beta = 1.0 / theta**2 - math.cos(theta / 2) / (2.0 * theta * math.sin(theta / 2))
+                cross = np.cross(r, ws)
+                errors, rates = r.tolist(), (ws - 0.5 * cross + beta * np.cross(r, cross)).tolist()
+                # J^-1 changes with r at most as fast as ROTATION_VECTOR_CURVATURE |r'| per unit
+                curvature = ROTATION_VECTOR_CURVATURE
+            else:
+                wx, wy, wz = ws.tolist()
+                errors = _euler_xyz_list(diff.tolist())
+                a, b, _ = errors
+                sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
+                u3w = sb * wx - sa * cb * wy + ca * cb * wz
+                rates = ((wx - sb * u3w) / (cb * cb), ca * wy + sa * wz, (u3w - sb * wx) / (cb * cb))
+                g = 1.0 / math.cos(o._tol[1])  # bounds the rates of a and c while |b| <= its tolerance
+                curvature = g * (g + 2.0)  # the angles' Jacobian changes as a and b do
             turn = (1.0 if hid is None else 2.0) * L * spread  # growth of the angular velocity
             best = math.inf
-            for e, rate, t, gk in zip((a, b, c), rates_abc, o._tol, o._gains):
+            for e, rate, t, gk in zip(errors, rates, o._tol, o._gains):
                 if gk:
-                    growth = gk * (turn + g * (g + 2.0) * L * L)
+                    growth = gk * (turn + curvature * L * L)
                     best = min(best, _reach(t + _EPS - abs(e), abs(rate), growth, gk * L))
             out.append(best)
         return out
