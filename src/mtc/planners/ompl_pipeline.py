@@ -34,8 +34,8 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    as long as the robot's joints are revolute or prismatic (others: checked at every
    :data:`DEFAULT_RESOLUTION` state, 0.015 rad). Position and orientation path constraints
    are proven likewise (:meth:`_EdgeChecker._certify_constraints`: from a state, a
-   constraint's slack can shrink no faster than its point moves or its link turns, and that
-   speed, known at the state, grows at a bounded rate), where a bound exists: not for a
+   constraint's margins shrink at first at the rates they have there, from the velocities of
+   its point or link, and those rates grow at a bounded pace), where a bound exists: not for a
    position region in a frame that moves with the robot, nor for Euler-angle tolerances that
    leave the middle angle free; those are checked at every :data:`DEFAULT_RESOLUTION` state.
    Joint constraints bound each joint to an interval, which a straight motion between two
