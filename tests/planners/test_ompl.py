@@ -527,6 +527,19 @@ def _violating_fraction(cset, scene, start, positions, step=None):
     return bad / len(dense)
 
 
+def _assert_no_jump(scene, pipeline, start, goal, c):
+    """Every state the straight motion from ``start`` to ``goal`` is checked at holds the
+    constraints ``c``, some state between them does not, and no plan is found."""
+    cset = KinematicConstraintSet(scene.robot_model, c)
+    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
+    ends = np.array([start.positions[idx], goal.positions[idx]])
+    assert _violating_fraction(cset, scene, start, ends) == 0.0
+    assert _violating_fraction(cset, scene, start, ends, 1e-4) > 0.0
+    result, _ = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=0.5, seed=0)
+    assert not result
+    assert result.message.startswith("TIMED_OUT")
+
+
 def test_a_path_never_jumps_a_gap_in_a_position_region(ready_scene, pipeline):
     """The hand must stay in one of two boxes 2 mm apart across y = 0, so no path leads from
     one to the other. The straight motion between them jumps the gap between the states it
@@ -538,16 +551,7 @@ def test_a_path_never_jumps_a_gap_in_a_position_region(ready_scene, pipeline):
     sides = [msgs.Pose(position=msgs.Point(x=x, y=y, z=z), orientation=msgs.Quaternion(w=1.0)) for y in (-0.05, 0.05)]
     pc = msgs.PositionConstraint(header=msgs.Header(frame_id="world"), link_name="panda_hand", weight=1.0,
                                  constraint_region=msgs.BoundingVolume(primitives=[box, box], primitive_poses=sides))
-    c = msgs.Constraints(position_constraints=[pc])
-    cset = KinematicConstraintSet(scene.robot_model, c)
-    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
-    ends = np.array([start.positions[idx], goal.positions[idx]])
-    # the premise: every state the edge is checked at lies in a box; the motion between does not
-    assert _violating_fraction(cset, scene, start, ends) == 0.0
-    assert _violating_fraction(cset, scene, start, ends, 1e-4) > 0.0
-    result, _ = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=0.5, seed=0)
-    assert not result
-    assert result.message.startswith("TIMED_OUT")
+    _assert_no_jump(scene, pipeline, start, goal, msgs.Constraints(position_constraints=[pc]))
 
 
 def test_a_path_never_jumps_a_thin_orientation_wall(ready_scene, pipeline):
@@ -567,14 +571,7 @@ def test_a_path_never_jumps_a_thin_orientation_wall(ready_scene, pipeline):
     )
     held = [msgs.JointConstraint(joint_name=f"panda_joint{j}", position=float(start.positions[j - 1]),
                                  tolerance_above=0.01, tolerance_below=0.01, weight=1.0) for j in range(1, 7)]
-    c = msgs.Constraints(orientation_constraints=[oc], joint_constraints=held)
-    cset = KinematicConstraintSet(scene.robot_model, c)
-    idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
-    ends = np.array([start.positions[idx], goal.positions[idx]])
-    assert _violating_fraction(cset, scene, start, ends) == 0.0
-    assert _violating_fraction(cset, scene, start, ends, 1e-4) > 0.0
-    result, _ = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=0.5, seed=0)
-    assert not result
+    _assert_no_jump(scene, pipeline, start, goal, msgs.Constraints(orientation_constraints=[oc], joint_constraints=held))
     # with z free the same request is the straight motion
     free = msgs.Constraints(orientation_constraints=[replace(oc, absolute_z_axis_tolerance=math.pi)], joint_constraints=held)
     result, traj = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=free, timeout=0.5, seed=0)
