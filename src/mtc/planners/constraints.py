@@ -261,6 +261,13 @@ def _rate_gains(parameterization: int, tol: tuple) -> tuple[float, float, float]
     return (g if tx < math.pi else 0.0, 1.0, g if tz < math.pi else 0.0)
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """``np.cross`` of two 3-vectors, without its generality (0.6 us here, np.cross 16 us)."""
+    ax, ay, az = a.tolist()
+    bx, by, bz = b.tolist()
+    return np.array([ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx])
+
+
 def _reach(slack: float, rate: float, growth: float, cap: float) -> float:
     """How far (in a motion's parameter) a slack stays positive that shrinks at first at
     ``rate``, a rate that grows at most at ``growth`` per unit and never exceeds ``cap``: the
@@ -787,7 +794,7 @@ class ConstraintEvaluator:
             velocity = np.zeros(3)  # the point's, in the header frame (which does not move)
             if link_ref[0] is not None:
                 v = pin.getFrameVelocity(pm, data, link_ref[0], local)
-                moving = data.oMf[link_ref[0]].rotation @ (v.linear + np.cross(v.angular, point))
+                moving = data.oMf[link_ref[0]].rotation @ (v.linear + _cross(v.angular, point))
                 velocity = header.rotation.T @ moving
             speed = float(np.linalg.norm(velocity))
             growth = 2.0 * L * spread
@@ -825,8 +832,8 @@ class ConstraintEvaluator:
                     beta = 1.0 / 12.0 + theta * theta / 720.0
                 else:
                     beta = 1.0 / theta**2 - math.cos(theta / 2) / (2.0 * theta * math.sin(theta / 2))
-                cross = np.cross(r, ws)
-                errors, rates = r.tolist(), (ws - 0.5 * cross + beta * np.cross(r, cross)).tolist()
+                cross = _cross(r, ws)
+                errors, rates = r.tolist(), (ws - 0.5 * cross + beta * _cross(r, cross)).tolist()
                 # J^-1 changes with r at most as fast as ROTATION_VECTOR_CURVATURE |r'| per unit
                 curvature = ROTATION_VECTOR_CURVATURE
             else:
