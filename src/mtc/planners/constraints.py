@@ -774,21 +774,23 @@ class ConstraintEvaluator:
         box's face as fast as its velocity's component across it, and a sphere's or cylinder's
         surface at most as fast as it moves; its velocity changes by at most
         ``2 L sum(|dq|)`` per unit of the motion, as the joints above turn the axes and levers
-        of the joints below. The constraint holds while the point stays in any one region. An orientation constraint's error components shrink their
-        margins at their own rates: the angular velocity relative to the header, in the
-        target's frame, mapped through the Jacobian of the Euler angles or of the rotation
-        vector (:func:`_rate_gains`), so turning about a free axis costs no reach. The angular
-        velocity changes by at most ``L sum(|dq|)`` per unit (twice that where the header turns
-        too), and the Jacobian as the angles change."""
+        of the joints below. The constraint holds while the point stays in any one region.
+
+        An orientation constraint's error components shrink their margins at their own rates:
+        the angular velocity relative to the header, in the target's frame, mapped through the
+        Jacobian of the Euler angles or of the rotation vector (:func:`_rate_gains`), so
+        turning about a free axis costs no reach. The angular velocity changes by at most
+        ``L sum(|dq|)`` per unit (twice that where the header turns too), and the Jacobian as
+        the angles change."""
         pm, data = self._pm, self._data
         pin.forwardKinematics(pm, data, q, dq)  # placements and velocities along dq
         for fid in self._frame_ids:
             pin.updateFramePlacement(pm, data, fid)
         spread = float(np.abs(dq).sum())
-        rates = rates.tolist()
+        bounds = rates.tolist()
         out = []
         local, aligned = pin.ReferenceFrame.LOCAL, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-        for (p, link_ref, frame_ref), point, L in zip(self._positions, self._local_points, rates):
+        for (p, link_ref, frame_ref), point, L in zip(self._positions, self._local_points, bounds):
             header = self._pose(frame_ref)
             point_h = header.actInv(self._pose(link_ref).act(p.offset))
             velocity = np.zeros(3)  # the point's, in the header frame (which does not move)
@@ -809,7 +811,7 @@ class ConstraintEvaluator:
                     reach = _reach(r.inside_local(x) + _EPS, speed, growth, L)
                 best = max(best, reach)
             out.append(best)
-        for (o, link_ref, (hid, hoff)), L in zip(self._orientations, rates[len(self._positions):]):
+        for (o, link_ref, (hid, hoff)), L in zip(self._orientations, bounds[len(self._positions):]):
             fid = link_ref[0]
             diff = self._diff(link_ref, (hid, hoff))
             w = [0.0, 0.0, 0.0]
@@ -833,7 +835,7 @@ class ConstraintEvaluator:
                 else:
                     beta = 1.0 / theta**2 - math.cos(theta / 2) / (2.0 * theta * math.sin(theta / 2))
                 cross = _cross(r, ws)
-                errors, rates = r.tolist(), (ws - 0.5 * cross + beta * _cross(r, cross)).tolist()
+                errors, speeds = r.tolist(), (ws - 0.5 * cross + beta * _cross(r, cross)).tolist()
                 # J^-1 changes with r at most as fast as ROTATION_VECTOR_CURVATURE |r'| per unit
                 curvature = ROTATION_VECTOR_CURVATURE
             else:
@@ -842,12 +844,12 @@ class ConstraintEvaluator:
                 a, b, _ = errors
                 sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
                 u3w = sb * wx - sa * cb * wy + ca * cb * wz
-                rates = ((wx - sb * u3w) / (cb * cb), ca * wy + sa * wz, (u3w - sb * wx) / (cb * cb))
+                speeds = ((wx - sb * u3w) / (cb * cb), ca * wy + sa * wz, (u3w - sb * wx) / (cb * cb))
                 g = 1.0 / math.cos(o._tol[1])  # bounds the rates of a and c while |b| <= its tolerance
                 curvature = g * (g + 2.0)  # the angles' Jacobian changes as a and b do
             turn = (1.0 if hid is None else 2.0) * L * spread  # growth of the angular velocity
             best = math.inf
-            for e, rate, t, gk in zip(errors, rates, o._tol, o._gains):
+            for e, rate, t, gk in zip(errors, speeds, o._tol, o._gains):
                 if gk:
                     growth = gk * (turn + curvature * L * L)
                     best = min(best, _reach(t + _EPS - abs(e), abs(rate), growth, gk * L))
