@@ -748,13 +748,13 @@ class _EdgeChecker:
         lo, hi, r0, r1 = t[:-1], t[1:], R[:-1], R[1:]
         ok = bool(R.min() >= 0.0)
         while ok:
-            if time.perf_counter() > self.deadline:
-                ok = False
-                break
             h = (hi - lo)[:, None]
             uncovered = r0 + r1 <= h
             keep = uncovered.any(axis=1)
             if not keep.any():
+                break
+            if time.perf_counter() > self.deadline:
+                ok = False
                 break
             lo, hi, r0, r1, h, uncovered = lo[keep], hi[keep], r0[keep], r1[keep], h[keep], uncovered[keep]
             if (np.where(uncovered, L * h, 0.0).max(axis=1) < CONSTRAINT_MIN_CHANGE).any():
