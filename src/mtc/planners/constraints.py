@@ -798,7 +798,6 @@ class ConstraintEvaluator:
                 v = pin.getFrameVelocity(pm, data, link_ref[0], local)
                 moving = data.oMf[link_ref[0]].rotation @ (v.linear + _cross(v.angular, point))
                 velocity = header.rotation.T @ moving
-            speed = float(np.linalg.norm(velocity))
             growth = 2.0 * L * spread
             best = -1.0  # the point holds the constraint while it stays in any one region
             for r in p.regions:
@@ -808,10 +807,13 @@ class ConstraintEvaluator:
                     reach = min(_reach(d + _EPS - abs(c), abs(vc), growth, L)
                                 for d, c, vc in zip(r.dims, x.tolist(), v_r))
                 else:
-                    reach = _reach(r.inside_local(x) + _EPS, speed, growth, L)
+                    reach = _reach(r.inside_local(x) + _EPS, float(np.linalg.norm(velocity)), growth, L)
                 best = max(best, reach)
             out.append(best)
         for (o, link_ref, (hid, hoff)), L in zip(self._orientations, bounds[len(self._positions):]):
+            if not any(o._gains):
+                out.append(math.inf)  # free about every axis
+                continue
             fid = link_ref[0]
             diff = self._diff(link_ref, (hid, hoff))
             w = [0.0, 0.0, 0.0]
@@ -820,9 +822,6 @@ class ConstraintEvaluator:
             if hid is not None:
                 wh = pin.getFrameVelocity(pm, data, hid, aligned).angular.tolist()
                 w = [a - b for a, b in zip(w, wh)]
-            if not any(o._gains):
-                out.append(math.inf)  # free about every axis
-                continue
             # the angular velocity in the frame the angles are taken in (the target's)
             R_ref_T = (hoff if hid is None else (data.oMf[hid] * hoff).inverse()).rotation
             ws = R_ref_T @ np.array(w)
