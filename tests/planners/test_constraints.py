@@ -348,9 +348,10 @@ def test_projection_reaches_the_constraints(panda, ready):
 # --- bounds for proving constraints between states -------------------------------------------
 
 
-def _mixed_constraints(ready, frame="world", parameterization=0, tol=(0.3, 0.2, 1.0)):
-    """An orientation constraint around the ready hand's orientation and a position
-    constraint whose region is two boxes and a sphere around the ready hand's point."""
+def _mixed_constraints(ready, frame="world", parameterization=0, tol=(0.3, 0.2, 1.0), tilt=0.0):
+    """An orientation constraint around the ready hand's orientation (turned by ``tilt``
+    about the target's y axis) and a position constraint whose region is two boxes and a
+    sphere around the ready hand's point, both in the header ``frame``."""
     T = ready.get_global_link_transform("panda_hand")
     header = np.eye(4) if frame == "world" else ready.get_global_link_transform(frame)
     rel = np.linalg.solve(header, T)
@@ -358,16 +359,16 @@ def _mixed_constraints(ready, frame="world", parameterization=0, tol=(0.3, 0.2, 
     for shift in ((0.0, -0.06, 0.0), (0.0, 0.06, 0.0), (0.05, 0.0, 0.05)):
         P = np.eye(4)
         P[:3, 3] = T[:3, 3] + np.array(shift)
-        poses.append(msgs.matrix_to_pose(P))
+        poses.append(msgs.matrix_to_pose(np.linalg.solve(header, P)))
     prims = [msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.2, 0.1, 0.15]),
              msgs.SolidPrimitive(type=msgs.SolidPrimitive.CYLINDER, dimensions=[0.15, 0.06]),
              msgs.SolidPrimitive(type=msgs.SolidPrimitive.SPHERE, dimensions=[0.07])]
-    pc = msgs.PositionConstraint(header=msgs.Header(frame_id="world"), link_name="panda_hand", weight=1.0,
+    pc = msgs.PositionConstraint(header=msgs.Header(frame_id=frame), link_name="panda_hand", weight=1.0,
                                  target_point_offset=msgs.Vector3(x=0.01, y=0.0, z=0.1),
                                  constraint_region=msgs.BoundingVolume(primitives=prims, primitive_poses=poses))
     # a target off the hand's axes, so that the angles' frame is not the hand's or the world's
-    oc = _orientation("panda_hand", rel[:3, :3] @ _rot("z", 0.5) @ _rot("x", 0.1), tol, frame=frame,
-                      parameterization=parameterization)
+    oc = _orientation("panda_hand", rel[:3, :3] @ _rot("z", 0.5) @ _rot("x", 0.1) @ _rot("y", tilt), tol,
+                      frame=frame, parameterization=parameterization)
     return msgs.Constraints(orientation_constraints=[oc], position_constraints=[pc])
 
 
@@ -378,18 +379,71 @@ def test_reaches_bound_how_far_a_motion_keeps_the_constraints(panda, ready, fram
     motion keeps each constraint (the bound the planner proves whole edges with): every state
     within it, either way, holds the constraint, and the bound is not far short of the first
     state that breaks it."""
+    shares, _ = _check_reaches(panda, ready, _mixed_constraints(ready, frame, parameterization), seed=3)
+    assert len(shares) > 50 and np.median(shares) > 0.3  # the bound is not vacuous
+
+
+@pytest.mark.parametrize("frame", ["world", "panda_link3"])
+def test_reaches_hold_near_gimbal_lock_with_the_middle_angle_free(panda, ready, frame):
+    """x-y-z Euler tolerances that leave the middle angle free: near |b| = pi/2 the outer
+    angles turn arbitrarily fast, so the reach shrinks to nothing there but still holds. The
+    target is tilted 1.3 rad about y from the ready hand, so that the states tried lie near
+    the lock."""
+    c = _mixed_constraints(ready, frame, 0, tol=(0.3, math.pi / 2, 1.0), tilt=-1.3)
+    shares, middles = _check_reaches(panda, ready, c, seed=5)
+    assert middles.max() > 1.54  # states within 0.03 rad of the lock were tried
+    assert len(shares) > 30 and np.median(shares) > 0.2
+
+
+def test_reaches_hold_across_gimbal_lock(panda, ready):
+    """From states 1e-2 to 1e-5 rad short of the lock (the middle Euler angle free, the outer
+    ones bounded), motions in every direction, many of them across the lock, where the outer
+    angles swing by up to pi: every state within the reach holds the constraint, and the
+    reach shrinks with the distance to the lock."""
     scene = PlanningScene(panda)
-    cs = KinematicConstraintSet(panda, _mixed_constraints(ready, frame, parameterization))
+    R_hand = ready.get_global_link_transform("panda_hand")[:3, :3]
+    rng = np.random.default_rng(11)
+    for delta in (1e-2, 1e-3, 1e-4, 1e-5):
+        diff = _rot("x", 0.1) @ _rot("y", math.pi / 2 - delta) @ _rot("z", -0.2)
+        oc = _orientation("panda_hand", R_hand @ diff.T, (0.3, math.pi / 2, 0.4))
+        ev = KinematicConstraintSet(panda, msgs.Constraints(orientation_constraints=[oc])).bind(scene)
+        q = ready.positions.copy()
+        assert ev(q) and abs(euler_xyz(diff)[1] - (math.pi / 2 - delta)) < 1e-9
+        rows = ev.motion_rates()
+        reaches = []
+        for _ in range(40):
+            D = np.zeros_like(q)
+            D[:7] = rng.normal(0.0, 1.0, 7)
+            (tau,) = ev.reaches(q, D, rows @ np.abs(D))
+            reaches.append(tau)
+            assert 0.0 < tau < 20.0 * delta
+            assert all(ev(q + t * D) for t in tau * np.linspace(-1.0, 1.0, 401)[1:-1])
+        assert np.median(reaches) > 0.01 * delta  # not vacuous either
+
+
+def _check_reaches(panda, ready, constraints, seed):
+    """Checks reaches() over 300 states near ``ready`` and motions from them (half heading
+    for a boundary): every state within a reach holds its constraint. Returns, per motion
+    that breaks a constraint within 1, the reach's share of the distance to the first
+    state that does (how tight it is), and the orientation constraint's middle Euler angle
+    at each state."""
+    scene = PlanningScene(panda)
+    cs = KinematicConstraintSet(panda, constraints)
     ev = cs.bind(scene)
     rows = ev.motion_rates()
     assert rows.shape == (2, panda.pinocchio_model.nq)
-    rng = np.random.default_rng(3)
-    signs, shares = set(), []
+    rng = np.random.default_rng(seed)
+    signs, shares, middles = set(), [], []
+    oc = constraints.orientation_constraints[0]
+    R_target = msgs.quaternion_to_matrix(oc.orientation)
     for _ in range(300):
         q = ready.positions.copy()
         q[:7] += rng.normal(0.0, 0.1, 7)
+        state = RobotState(panda, q)
+        header = state.get_global_link_transform(oc.header.frame_id)[:3, :3] if oc.header.frame_id != "world" else np.eye(3)
+        middles.append(abs(euler_xyz((header @ R_target).T @ state.get_global_link_transform("panda_hand")[:3, :3])[1]))
         held = ev(q)
-        assert (min(ev.slacks(q)) >= 0.0) == held == cs.satisfied(RobotState(panda, q), scene)
+        assert (min(ev.slacks(q)) >= 0.0) == held == cs.satisfied(state, scene)
         signs.add(held)
         D = np.zeros_like(q)
         D[:7] = rng.normal(0.0, 0.3, 7)
@@ -410,20 +464,24 @@ def test_reaches_bound_how_far_a_motion_keeps_the_constraints(panda, ready, fram
             if broken:
                 shares.append(tau / min(broken))
     assert signs == {True, False}
-    assert len(shares) > 50 and np.median(shares) > 0.3  # the bound is not vacuous
+    return np.array(shares), np.array(middles)
 
 
-def test_motion_rates_are_none_where_no_bound_exists(panda, ready):
+def test_motion_rates_are_none_only_where_no_bound_exists(panda, ready):
     scene = PlanningScene(panda)
     T = ready.get_global_link_transform("panda_hand")
-    # a position region in a link frame moves with the robot
-    moving = _position("panda_hand", msgs.SolidPrimitive.SPHERE, (0.1,), np.eye(4), frame="panda_link3")
-    assert KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[moving])).bind(scene).motion_rates() is None
-    # Euler angles with the middle one free: the outer ones turn without bound near pi/2
-    free_y = _orientation("panda_hand", T[:3, :3], (0.1, math.pi / 2, 0.1))
-    assert KinematicConstraintSet(panda, msgs.Constraints(orientation_constraints=[free_y])).bind(scene).motion_rates() is None
-    # all free but the middle one, or as a rotation vector: bounded
-    for oc in (_orientation("panda_hand", T[:3, :3], (math.pi, 0.1, math.pi)),
+    # a position region in a link frame that moves apart from the point: joint 4 moves
+    # panda_link4 but not panda_link3's point
+    apart = _position("panda_link3", msgs.SolidPrimitive.SPHERE, (0.1,), np.eye(4), frame="panda_link4")
+    assert KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[apart])).bind(scene).motion_rates() is None
+    # in the frame of a link above the point: only the joints in between move it there
+    below = _position("panda_hand", msgs.SolidPrimitive.SPHERE, (0.1,), np.eye(4), frame="panda_link3")
+    rows = KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[below])).bind(scene).motion_rates()
+    assert rows[0, :3].tolist() == [0.0] * 3 and np.all(rows[0, 3:6] > 0.0)  # (the point is on axis 7)
+    # every orientation constraint is bounded by how far its link turns, also Euler angles
+    # with the middle one free (their reach shrinks near pi/2), or all free but the middle one
+    for oc in (_orientation("panda_hand", T[:3, :3], (0.1, math.pi / 2, 0.1)),
+               _orientation("panda_hand", T[:3, :3], (math.pi, 0.1, math.pi)),
                _orientation("panda_hand", T[:3, :3], (0.1, math.pi / 2, 0.1), parameterization=1)):
         rows = KinematicConstraintSet(panda, msgs.Constraints(orientation_constraints=[oc])).bind(scene).motion_rates()
         assert rows is not None and rows[0, :7].tolist() == [1.0] * 7 and rows[0, 7:].tolist() == [0.0, 0.0]

@@ -579,6 +579,30 @@ def test_a_path_never_jumps_a_thin_orientation_wall(ready_scene, pipeline):
     assert pipeline.last_stats.planner == "straight line"
 
 
+def test_a_path_never_slips_past_gimbal_lock(ready_scene, pipeline):
+    """x-y-z Euler tolerances that leave the middle angle free: near |b| = pi/2 the outer
+    angles swing by far more than a step's turn. This motion (from a fuzz, where a plan took
+    it) passes there: its checked states hold the constraint, a state between them breaks it
+    by 1.1 rad, and with the joints held near the motion no plan is found."""
+    scene = ready_scene
+    a = [0.7340735808206821, 0.9253651727776099, -1.6920887609477515, -1.612161666302545,
+         -1.3198864756596311, 1.0429762478991158, 1.798257202276653]
+    b = [0.7180246814425113, 0.8994854370530929, -1.6530088531984255, -1.6408599335063156,
+         -1.289712908585646, 1.0531149360467846, 1.7470563547542004]
+    start = _state(scene, **{f"panda_joint{j + 1}": v for j, v in enumerate(a)})
+    goal = _state(scene, **{f"panda_joint{j + 1}": v for j, v in enumerate(b)})
+    oc = msgs.OrientationConstraint(
+        header=msgs.Header(frame_id="panda_link0"), link_name="panda_hand", weight=1.0,
+        orientation=msgs.Quaternion(x=-0.9561446015039506, y=0.05547702374395264, z=0.2510711265031155,
+                                    w=0.14026079383712714),
+        absolute_x_axis_tolerance=2.0, absolute_y_axis_tolerance=3.0, absolute_z_axis_tolerance=math.pi / 2,
+    )
+    held = [msgs.JointConstraint(joint_name=f"panda_joint{j + 1}", position=(u + v) / 2,
+                                 tolerance_above=abs(u - v) / 2 + 0.002, tolerance_below=abs(u - v) / 2 + 0.002, weight=1.0)
+            for j, (u, v) in enumerate(zip(a, b))]
+    _assert_no_jump(scene, pipeline, start, goal, msgs.Constraints(orientation_constraints=[oc], joint_constraints=held))
+
+
 @pytest.mark.parametrize("parameterization", [0, 1])
 def test_an_orientation_constraint_free_about_every_axis_blocks_nothing(ready_scene, pipeline, parameterization):
     """Tolerances of pi (or 3.14) about every axis: no orientation violates them, so the

@@ -218,47 +218,60 @@ class _Orientation:
 
     def diff_slack(self, diff: np.ndarray) -> float:
         """How far the rotation ``diff`` is inside the tolerances, as the angle [rad] the link
-        must turn (at least) to leave them: the components' margins divided by their rate
-        gains (:func:`_rate_gains`, which must not be None); negative where violated."""
-        best = math.inf
-        for e, t, g in zip(self._abs_errors(diff), self._tol, self._gains):
-            if g:
-                best = min(best, (t + _EPS - e) / g)
+        must turn (at least) to leave them; negative where violated. A rotation vector's
+        components' margins are divided by their rate gains (:func:`_rate_gains`). Euler
+        angles: the middle one changes at most as fast as the link turns, the outer ones at
+        most ``1 / cos(b)`` times as fast, where ``|b|`` has grown by at most the angle turned;
+        so an outer margin ``m`` lasts while ``F(|b| + turn) - F(|b|) < m``, ``F`` the inverse
+        Gudermannian (:func:`_outer_euler_turn`), or, while ``b`` keeps a tolerance ``t_b``
+        below pi/2, while ``turn / cos(t_b) < m``."""
+        errors, best = self._abs_errors(diff), math.inf
+        euler = self.parameterization != msgs.OrientationConstraint.ROTATION_VECTOR
+        for k, (e, t, g) in enumerate(zip(errors, self._tol, self._gains)):
+            if not g:
+                continue
+            margin = t + _EPS - e
+            if euler and k != 1 and margin > 0.0:
+                turn = _outer_euler_turn(errors[1], margin)
+                if self._tol[1] < math.pi / 2:  # or |b| stays within its tolerance: 1 / cos(t_b)
+                    turn = max(turn, margin * math.cos(self._tol[1]))
+                best = min(best, turn)
+            else:
+                best = min(best, margin / g)
         return best
+
+
+def _outer_euler_turn(b: float, margin: float) -> float:
+    """The least angle [rad] a link must turn to change an outer x-y-z Euler angle by
+    ``margin`` from a state whose middle angle is ``b``: the rate of the outer angles is at
+    most ``1 / cos(|b|)`` times the angular speed, and ``|b|`` grows at most as fast as the
+    link turns, so the change after turning ``s`` is at most
+    ``F(|b| + s) - F(|b|)``, ``F(x) = asinh(tan(x))`` (the integral of ``1 / cos``)."""
+    b = min(abs(b), math.pi / 2)
+    return math.atan(math.sinh(math.asinh(math.tan(b)) + margin)) - b
 
 
 #: Bound on how fast the inverse Jacobian of the rotation vector changes, per unit of the
 #: vector's own rate, at any angle up to pi (its largest value, 1.29, is at pi).
 ROTATION_VECTOR_CURVATURE = 1.3
-#: Largest rate gain (see :func:`_rate_gains`) for which an orientation constraint is proven
-#: between the states a planner checks; beyond it only the states are checked.
-_MAX_RATE_GAIN = 1e3
-
-
-def _rate_gains(parameterization: int, tol: tuple) -> tuple[float, float, float] | None:
+def _rate_gains(parameterization: int, tol: tuple) -> tuple[float, float, float]:
     """Per error component of an orientation constraint, a bound on how fast it changes per
     unit of the link's angular speed (relative to the header) while the constraint holds; 0
-    for a component whose tolerance it can never exceed. None where no bound exists.
+    for a component whose tolerance it can never exceed.
 
     Rotation vector: its rate is at most ``(theta / 2) / sin(theta / 2)`` times the angular
     speed (the inverse Jacobian of the exponential map) at the largest angle ``theta`` inside
-    the tolerances. x-y-z Euler angles ``(a, b, c)``: the rates of ``a`` and ``c`` are at most
-    ``1 / cos(b)`` times the angular speed and that of ``b`` at most 1, so with ``|b|`` within
-    its tolerance they are bounded; with ``b`` free (a tolerance of pi/2 or more) ``a`` and
-    ``c`` can turn arbitrarily fast near ``|b| = pi/2`` (None unless they are free too)."""
+    the tolerances. x-y-z Euler angles ``(a, b, c)``: 1 for each bounded component. The rate of
+    ``b`` is at most the angular speed, but those of ``a`` and ``c`` are at most ``1 / cos(b)``
+    times it, which depends on the state (and has no bound near ``|b| = pi/2`` where ``b`` is
+    free): :meth:`ConstraintEvaluator.reaches` and :func:`_outer_euler_turn` apply it."""
     if parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
         active = [t < math.pi for t in tol]
         theta = min(math.pi, math.sqrt(sum(min(t, math.pi) ** 2 for t in tol)))
         g = 1.0 if theta == 0.0 else (theta / 2) / math.sin(theta / 2)
         return tuple(g if a else 0.0 for a in active)
     tx, ty, tz = tol
-    gy = 1.0 if ty < math.pi / 2 else 0.0
-    if tx >= math.pi and tz >= math.pi:
-        return (0.0, gy, 0.0)
-    g = 1.0 / math.cos(ty) if gy else math.inf
-    if g > _MAX_RATE_GAIN:
-        return None
-    return (g if tx < math.pi else 0.0, 1.0, g if tz < math.pi else 0.0)
+    return (float(tx < math.pi), float(ty < math.pi / 2), float(tz < math.pi))
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -714,39 +727,42 @@ class ConstraintEvaluator:
         return True
 
     def motion_rates(self) -> np.ndarray | None:
-        """Bounds on how fast the position and orientation constraints' :meth:`slacks` change:
-        rows (one per position constraint, then one per orientation constraint) over the
-        model's variables such that a motion ``dq`` changes a slack by at most
-        ``row @ |dq|``. A position constraint's point moves at most that far [m] (as a
-        collision geometry's, :func:`~mtc.scene.planning_scene.points_motion_row`); an
-        orientation constraint's link turns at most that far relative to its header [rad]: a
-        revolute joint above exactly one of the two by its own change.
+        """Bounds on how far a motion moves the position constraints' points and turns the
+        orientation constraints' links: rows (one per position constraint, then one per
+        orientation constraint) over the model's variables such that a motion ``dq`` moves a
+        point by at most ``row @ |dq|`` [m] (as a collision geometry's,
+        :func:`~mtc.scene.planning_scene.points_motion_row`), or turns a link relative to its
+        header by at most that [rad]: a revolute joint above exactly one of the two by its own
+        change. (:meth:`reaches` turns them into bounds on the constraints.)
 
         None where some constraint has no such bound: a position constraint whose header
-        moves with the robot, an orientation constraint whose Euler tolerances leave its
-        middle angle free (:func:`_rate_gains`), or joints other than revolute and prismatic
-        ones. Then the constraints are only known to hold at the states checked."""
+        moves apart from its point (joints move the header that do not move the point), or
+        joints other than revolute and prismatic ones. Then the constraints are only known
+        to hold at the states checked."""
         pm = self._pm
         rows = []
+        def above(f):  # the joints that move frame f
+            return set() if f is None else {int(j) for j in pm.supports[pm.frames[f].parentJoint]} - {0}
+
         for p, (fid, off), (hid, _) in self._positions:
-            if hid is not None and int(pm.frames[hid].parentJoint) != 0:
-                return None
+            header = above(hid)
+            if not header <= above(fid):
+                return None  # a header that moves apart from the point
             if fid is None:
                 rows.append(np.zeros(pm.nq))
                 continue
             frame = pm.frames[fid]
             point = (frame.placement * off).act(p.offset)
-            rows.append(points_motion_row(self.constraint_set.robot_model, int(frame.parentJoint), point[None, :])[0])
+            row = points_motion_row(self.constraint_set.robot_model, int(frame.parentJoint), point[None, :])[0]
+            for j in header:  # joints above the header move the point and header together
+                row[pm.joints[j].idx_q:pm.joints[j].idx_q + pm.joints[j].nq] = 0.0
+            rows.append(row)
         for o, (fid, _), (hid, _) in self._orientations:
-            if o._gains is None:
-                return None
-            above = [set() if f is None else {int(j) for j in pm.supports[pm.frames[f].parentJoint]} - {0}
-                     for f in (fid, hid)]
             row = np.zeros(pm.nq)
             if not any(o._gains):
                 rows.append(row)  # free about every axis: nothing can violate it
                 continue
-            for j in above[0] ^ above[1]:
+            for j in above(fid) ^ above(hid):
                 kind = pm.joints[j].shortname()
                 if kind in REVOLUTE_JOINTS:
                     row[pm.joints[j].idx_q] = 1.0
@@ -771,17 +787,22 @@ class ConstraintEvaluator:
 
         A slack shrinks at first at the rate it has at ``q``, a rate that grows at most at a
         bounded pace along the motion (:func:`_reach`). A position constraint's point nears a
-        box's face as fast as its velocity's component across it, and a sphere's or cylinder's
-        surface at most as fast as it moves; its velocity changes by at most
-        ``2 L sum(|dq|)`` per unit of the motion, as the joints above turn the axes and levers
-        of the joints below. The constraint holds while the point stays in any one region.
+        box's face as fast as its velocity (relative to the header, in the header's frame)
+        has a component across it, and a sphere's or cylinder's surface at most as fast as it
+        moves; that velocity changes by at most ``2 L sum(|dq|)`` per unit of the motion, as
+        the joints above turn the axes and levers of the joints below (the joints above a
+        moving header turn the point and the header together). The constraint holds while the
+        point stays in any one region.
 
         An orientation constraint's error components shrink their margins at their own rates:
         the angular velocity relative to the header, in the target's frame, mapped through the
         Jacobian of the Euler angles or of the rotation vector (:func:`_rate_gains`), so
         turning about a free axis costs no reach. The angular velocity changes by at most
         ``L sum(|dq|)`` per unit (twice that where the header turns too), and the Jacobian as
-        the angles change."""
+        the angles change. The Jacobian of the outer Euler angles grows as ``1 / cos(b)`` with
+        the middle angle ``b``: it is bounded by the middle angle's tolerance, or by halfway
+        from ``|b|`` to pi/2 over the turn that cannot take ``|b|`` past that. At pi/2 (gimbal
+        lock) the outer angles jump, so the reach there is 0."""
         pm, data = self._pm, self._data
         pin.forwardKinematics(pm, data, q, dq)  # placements and velocities along dq
         for fid in self._frame_ids:
@@ -793,10 +814,15 @@ class ConstraintEvaluator:
         for (p, link_ref, frame_ref), point, L in zip(self._positions, self._local_points, bounds):
             header = self._pose(frame_ref)
             point_h = header.actInv(self._pose(link_ref).act(p.offset))
-            velocity = np.zeros(3)  # the point's, in the header frame (which does not move)
+            velocity = np.zeros(3)  # the point's, relative to the header, in the header frame
             if link_ref[0] is not None:
                 v = pin.getFrameVelocity(pm, data, link_ref[0], local)
                 moving = data.oMf[link_ref[0]].rotation @ (v.linear + _cross(v.angular, point))
+                hid = frame_ref[0]
+                if hid is not None:  # less the header body's velocity at the point
+                    vh = pin.getFrameVelocity(pm, data, hid, aligned)
+                    lever = header.act(point_h) - data.oMf[hid].translation
+                    moving = moving - vh.linear - _cross(vh.angular, lever)
                 velocity = header.rotation.T @ moving
             growth = 2.0 * L * spread
             best = -1.0  # the point holds the constraint while it stays in any one region
@@ -837,18 +863,31 @@ class ConstraintEvaluator:
                 errors, speeds = r.tolist(), (ws - 0.5 * cross + beta * _cross(r, cross)).tolist()
                 # J^-1 changes with r at most as fast as ROTATION_VECTOR_CURVATURE |r'| per unit
                 curvature = ROTATION_VECTOR_CURVATURE
+                gains, best = o._gains, math.inf
             else:
                 wx, wy, wz = ws.tolist()
                 errors = _euler_xyz_list(diff.tolist())
                 a, b, _ = errors
                 sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
+                if cb < 1e-9:  # gimbal lock: a and c are not even continuous here
+                    out.append(-1.0 if o.diff_violation(diff) > 0.0 else 0.0 if L > 0.0 else math.inf)
+                    continue
                 u3w = sb * wx - sa * cb * wy + ca * cb * wz
                 speeds = ((wx - sb * u3w) / (cb * cb), ca * wy + sa * wz, (u3w - sb * wx) / (cb * cb))
-                g = 1.0 / math.cos(o._tol[1])  # bounds the rates of a and c while |b| <= its tolerance
+                # the rates of a and c are at most 1 / cos(b) times the angular speed: bound
+                # |b| by its tolerance, or (nearer pi/2) by halfway to pi/2, which it keeps
+                # while the link turns less than the difference
+                ty, b_max = o._tol[1], 0.5 * (abs(b) + math.pi / 2)
+                best = math.inf
+                if b_max < ty:
+                    best = (b_max - abs(b)) / L if L > 0.0 else math.inf
+                else:
+                    b_max = ty
+                g = 1.0 / math.cos(b_max)
+                gains = (g * o._gains[0], o._gains[1], g * o._gains[2])
                 curvature = g * (g + 2.0)  # the angles' Jacobian changes as a and b do
             turn = (1.0 if hid is None else 2.0) * L * spread  # growth of the angular velocity
-            best = math.inf
-            for e, rate, t, gk in zip(errors, speeds, o._tol, o._gains):
+            for e, rate, t, gk in zip(errors, speeds, o._tol, gains):
                 if gk:
                     growth = gk * (turn + curvature * L * L)
                     best = min(best, _reach(t + _EPS - abs(e), abs(rate), growth, gk * L))
