@@ -348,22 +348,30 @@ def test_projection_reaches_the_constraints(panda, ready):
 # --- bounds for proving constraints between states -------------------------------------------
 
 
-def _mixed_constraints(ready, frame="world", parameterization=0, tol=(0.3, 0.2, 1.0), tilt=0.0):
+def _mixed_constraints(ready, frame="world", parameterization=0, tol=(0.3, 0.2, 1.0), tilt=0.0,
+                       position_link="panda_hand", position_frame=None):
     """An orientation constraint around the ready hand's orientation (turned by ``tilt``
     about the target's y axis) and a position constraint whose region is two boxes and a
-    sphere around the ready hand's point, both in the header ``frame``."""
+    sphere around the ready ``position_link``'s point (offset 1 cm along x and 10 cm along z),
+    in the header ``frame`` (the position
+    constraint's in ``position_frame`` if given)."""
     T = ready.get_global_link_transform("panda_hand")
-    header = np.eye(4) if frame == "world" else ready.get_global_link_transform(frame)
+
+    def placement(f):
+        return np.eye(4) if f == "world" else ready.get_global_link_transform(f)
+
+    header = placement(frame)
     rel = np.linalg.solve(header, T)
+    position_frame = position_frame or frame
     poses = []
     for shift in ((0.0, -0.06, 0.0), (0.0, 0.06, 0.0), (0.05, 0.0, 0.05)):
         P = np.eye(4)
-        P[:3, 3] = T[:3, 3] + np.array(shift)
-        poses.append(msgs.matrix_to_pose(np.linalg.solve(header, P)))
+        P[:3, 3] = ready.get_global_link_transform(position_link)[:3, :] @ [0.01, 0.0, 0.1, 1.0] + np.array(shift)
+        poses.append(msgs.matrix_to_pose(np.linalg.solve(placement(position_frame), P)))
     prims = [msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.2, 0.1, 0.15]),
              msgs.SolidPrimitive(type=msgs.SolidPrimitive.CYLINDER, dimensions=[0.15, 0.06]),
              msgs.SolidPrimitive(type=msgs.SolidPrimitive.SPHERE, dimensions=[0.07])]
-    pc = msgs.PositionConstraint(header=msgs.Header(frame_id=frame), link_name="panda_hand", weight=1.0,
+    pc = msgs.PositionConstraint(header=msgs.Header(frame_id=position_frame), link_name=position_link, weight=1.0,
                                  target_point_offset=msgs.Vector3(x=0.01, y=0.0, z=0.1),
                                  constraint_region=msgs.BoundingVolume(primitives=prims, primitive_poses=poses))
     # a target off the hand's axes, so that the angles' frame is not the hand's or the world's
@@ -383,13 +391,25 @@ def test_reaches_bound_how_far_a_motion_keeps_the_constraints(panda, ready, fram
     assert len(shares) > 50 and np.median(shares) > 0.3  # the bound is not vacuous
 
 
+@pytest.mark.parametrize("link, frame", [("panda_link4", "panda_hand"), ("panda_hand", "panda_leftfinger"),
+                                         ("panda_link0", "panda_link3")])
+def test_reaches_hold_for_a_region_in_a_frame_that_moves_apart_from_the_point(panda, ready, link, frame):
+    """A position region in the frame of a link that joints move apart from the constrained
+    point (joints 5-7 move the hand but not panda_link4; the finger joint the finger but not
+    the hand; joints 1-3 panda_link3 but not the fixed base): reaches() bounds the point's
+    motion relative to the header just as well."""
+    c = _mixed_constraints(ready, position_link=link, position_frame=frame)
+    shares, _ = _check_reaches(panda, ready, c, seed=7)
+    assert len(shares) > 30 and np.median(shares) > 0.2
+
+
 @pytest.mark.parametrize("frame", ["world", "panda_link3"])
 def test_reaches_hold_near_gimbal_lock_with_the_middle_angle_free(panda, ready, frame):
     """x-y-z Euler tolerances that leave the middle angle free: near |b| = pi/2 the outer
     angles turn arbitrarily fast, so the reach shrinks to nothing there but still holds. The
-    target is tilted 1.3 rad about y from the ready hand, so that the states tried lie near
+    target is tilted 1.35 rad about y from the ready hand, so that the states tried lie near
     the lock."""
-    c = _mixed_constraints(ready, frame, 0, tol=(0.3, math.pi / 2, 1.0), tilt=-1.3)
+    c = _mixed_constraints(ready, frame, 0, tol=(0.3, math.pi / 2, 1.0), tilt=-1.35)
     shares, middles = _check_reaches(panda, ready, c, seed=5)
     assert middles.max() > 1.54  # states within 0.03 rad of the lock were tried
     assert len(shares) > 30 and np.median(shares) > 0.2
@@ -470,10 +490,11 @@ def _check_reaches(panda, ready, constraints, seed):
 def test_motion_rates_are_none_only_where_no_bound_exists(panda, ready):
     scene = PlanningScene(panda)
     T = ready.get_global_link_transform("panda_hand")
-    # a position region in a link frame that moves apart from the point: joint 4 moves
-    # panda_link4 but not panda_link3's point
+    # a position region in a link frame that moves apart from the point: only joint 4 moves
+    # panda_link4 but not panda_link3's point; it moves it by its distance from joint 4
     apart = _position("panda_link3", msgs.SolidPrimitive.SPHERE, (0.1,), np.eye(4), frame="panda_link4")
-    assert KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[apart])).bind(scene).motion_rates() is None
+    rows = KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[apart])).bind(scene).motion_rates()
+    assert rows[0, [0, 1, 2, 4, 5, 6, 7, 8]].tolist() == [0.0] * 8 and rows[0, 3] >= 0.0825  # link 3 to 4: 8.25 cm
     # in the frame of a link above the point: only the joints in between move it there
     below = _position("panda_hand", msgs.SolidPrimitive.SPHERE, (0.1,), np.eye(4), frame="panda_link3")
     rows = KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[below])).bind(scene).motion_rates()

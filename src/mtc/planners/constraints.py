@@ -42,7 +42,7 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
-from mtc.scene.planning_scene import PRISMATIC_JOINTS, REVOLUTE_JOINTS, points_motion_row
+from mtc.scene.planning_scene import PRISMATIC_JOINTS, REVOLUTE_JOINTS, origin_reach, points_motion_row
 from mtc.scene.robot_model import RobotModel, wrap_angle
 from mtc.scene.robot_state import RobotState, plain_frame
 
@@ -735,26 +735,40 @@ class ConstraintEvaluator:
         header by at most that [rad]: a revolute joint above exactly one of the two by its own
         change. (:meth:`reaches` turns them into bounds on the constraints.)
 
-        None where some constraint has no such bound: a position constraint whose header
-        moves apart from its point (joints move the header that do not move the point), or
-        joints other than revolute and prismatic ones. Then the constraints are only known
-        to hold at the states checked."""
+        A joint that moves a position constraint's header but not its point moves the point
+        relative to the header by at most the point's distance from the joint's origin,
+        bounded through the deepest joint above both
+        (:func:`~mtc.scene.planning_scene.origin_reach`); joints above both
+        move them together.
+
+        None where some joint involved is neither revolute nor prismatic. Then the
+        constraints are only known to hold at the states checked."""
         pm = self._pm
-        rows = []
+        model = self.constraint_set.robot_model
+
         def above(f):  # the joints that move frame f
             return set() if f is None else {int(j) for j in pm.supports[pm.frames[f].parentJoint]} - {0}
 
+        rows = []
         for p, (fid, off), (hid, _) in self._positions:
-            header = above(hid)
-            if not header <= above(fid):
-                return None  # a header that moves apart from the point
-            if fid is None:
-                rows.append(np.zeros(pm.nq))
-                continue
-            frame = pm.frames[fid]
-            point = (frame.placement * off).act(p.offset)
-            row = points_motion_row(self.constraint_set.robot_model, int(frame.parentJoint), point[None, :])[0]
-            for j in header:  # joints above the header move the point and header together
+            if fid is None:  # a fixed point (in the root's frame)
+                joint, point = 0, off.act(p.offset)
+            else:
+                frame = pm.frames[fid]
+                joint, point = int(frame.parentJoint), (frame.placement * off).act(p.offset)
+            row = points_motion_row(model, joint, point[None, :])[0]
+            common = above(fid) & above(hid)  # these move the point and header together
+            top = max(common, key=lambda j: len(pm.supports[j]), default=0)
+            to_point = origin_reach(model, top, joint) + float(np.linalg.norm(point))
+            for j in above(hid) - common:
+                # moves the header about its axis, and so the point relative to the header,
+                # by at most the point's distance from the joint's origin
+                kind = pm.joints[j].shortname()
+                rate = 1.0 if kind in PRISMATIC_JOINTS else np.inf
+                if kind in REVOLUTE_JOINTS:
+                    rate = to_point + origin_reach(model, top, j)
+                row[pm.joints[j].idx_q] = rate
+            for j in common:
                 row[pm.joints[j].idx_q:pm.joints[j].idx_q + pm.joints[j].nq] = 0.0
             rows.append(row)
         for o, (fid, _), (hid, _) in self._orientations:
@@ -814,16 +828,16 @@ class ConstraintEvaluator:
         for (p, link_ref, frame_ref), point, L in zip(self._positions, self._local_points, bounds):
             header = self._pose(frame_ref)
             point_h = header.actInv(self._pose(link_ref).act(p.offset))
-            velocity = np.zeros(3)  # the point's, relative to the header, in the header frame
+            moving = np.zeros(3)  # the point's velocity relative to the header
             if link_ref[0] is not None:
                 v = pin.getFrameVelocity(pm, data, link_ref[0], local)
                 moving = data.oMf[link_ref[0]].rotation @ (v.linear + _cross(v.angular, point))
-                hid = frame_ref[0]
-                if hid is not None:  # less the header body's velocity at the point
-                    vh = pin.getFrameVelocity(pm, data, hid, aligned)
-                    lever = header.act(point_h) - data.oMf[hid].translation
-                    moving = moving - vh.linear - _cross(vh.angular, lever)
-                velocity = header.rotation.T @ moving
+            hid = frame_ref[0]
+            if hid is not None:  # less the header body's velocity at the point
+                vh = pin.getFrameVelocity(pm, data, hid, aligned)
+                lever = header.act(point_h) - data.oMf[hid].translation
+                moving = moving - vh.linear - _cross(vh.angular, lever)
+            velocity = header.rotation.T @ moving  # in the header frame
             growth = 2.0 * L * spread
             best = -1.0  # the point holds the constraint while it stays in any one region
             for r in p.regions:

@@ -35,9 +35,8 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    :data:`DEFAULT_RESOLUTION` state, 0.015 rad). Position and orientation path constraints
    are proven likewise (:meth:`_EdgeChecker._certify_constraints`: from a state, a
    constraint's margins shrink at first at the rates they have there, from the velocities of
-   its point or link, and those rates grow at a bounded pace), where a bound exists: not for a
-   position region in a frame that moves apart from its point (a link that is not above the
-   constrained one); that is checked at every :data:`DEFAULT_RESOLUTION` state.
+   its point or link, and those rates grow at a bounded pace), as long as the joints are
+   revolute or prismatic (others: checked at every :data:`DEFAULT_RESOLUTION` state).
    Joint constraints bound each joint to an interval, which a straight motion between two
    states inside it never leaves. An edge that fails is replanned (sub-searches of at most
    :data:`REPAIR_CHECKS` checks whose paths are then proven); where that fails too, the whole

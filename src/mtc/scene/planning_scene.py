@@ -226,12 +226,6 @@ def points_motion_row(model: RobotModel, joint: int, pts: np.ndarray, extra: flo
         return row, anc
     reach_own = float(np.linalg.norm(pts, axis=1).max()) + extra  # from the joint's origin
 
-    def travel(j: int) -> float:
-        if joints[j].shortname() not in PRISMATIC_JOINTS:
-            return 0.0
-        i = joints[j].idx_q
-        return float(max(abs(model.lower_bounds[i]), abs(model.upper_bounds[i])))
-
     chain = [int(j) for j in pm.supports[joint]][1:]  # joints from the root down to joint
     # reach[n]: bound on the distance from joint chain[n]'s origin to the geometry, without
     # the first offset (kept apart to drop its component along the axis)
@@ -249,8 +243,7 @@ def points_motion_row(model: RobotModel, joint: int, pts: np.ndarray, extra: flo
         rest = chain[n + 1:]
         if rest:
             first = np.asarray(pm.jointPlacements[rest[0]].translation, dtype=float)
-            reach = travel(rest[0]) + tail
-            reach += sum(float(np.linalg.norm(pm.jointPlacements[k].translation)) + travel(k) for k in rest[1:])
+            reach = _travel(model, rest[0]) + tail + origin_reach(model, rest[0], joint)
         else:
             # the geometry's own joint: the largest distance of its hull from the axis (a
             # convex function of the point, so largest at a hull point), exactly
@@ -266,6 +259,26 @@ def points_motion_row(model: RobotModel, joint: int, pts: np.ndarray, extra: flo
             first = first - first.dot(axis) * axis
         row[v] = reach + float(np.linalg.norm(first))
     return row, anc
+
+
+def _travel(model: RobotModel, j: int) -> float:
+    """How far the Pinocchio joint ``j`` can shift what it carries: a prismatic joint's
+    largest travel from 0; 0 for other joints."""
+    joint = model.pinocchio_model.joints[j]
+    if joint.shortname() not in PRISMATIC_JOINTS:
+        return 0.0
+    i = joint.idx_q
+    return float(max(abs(model.lower_bounds[i]), abs(model.upper_bounds[i])))
+
+
+def origin_reach(model: RobotModel, top: int, joint: int) -> float:
+    """A bound, over every configuration, on the distance between the origins of the
+    Pinocchio joints ``top`` (one of the joints above ``joint``, or 0: the model's root) and
+    ``joint``: the joint offsets between them (prismatic joints: plus their largest travel)."""
+    pm = model.pinocchio_model
+    chain = [int(j) for j in pm.supports[joint]]
+    below = chain[chain.index(top) + 1:]
+    return sum(float(np.linalg.norm(pm.jointPlacements[k].translation)) + _travel(model, k) for k in below)
 
 
 def _hull_points(geom) -> tuple[np.ndarray, float]:
