@@ -254,17 +254,19 @@ def _outer_euler_turn(b: float, margin: float) -> float:
 #: Bound on how fast the inverse Jacobian of the rotation vector changes, per unit of the
 #: vector's own rate, at any angle up to pi (its largest value, 1.29, is at pi).
 ROTATION_VECTOR_CURVATURE = 1.3
-def _rate_gains(parameterization: int, tol: tuple) -> tuple[float, float, float]:
-    """Per error component of an orientation constraint, a bound on how fast it changes per
-    unit of the link's angular speed (relative to the header) while the constraint holds; 0
-    for a component whose tolerance it can never exceed.
 
-    Rotation vector: its rate is at most ``(theta / 2) / sin(theta / 2)`` times the angular
-    speed (the inverse Jacobian of the exponential map) at the largest angle ``theta`` inside
-    the tolerances. x-y-z Euler angles ``(a, b, c)``: 1 for each bounded component. The rate of
-    ``b`` is at most the angular speed, but those of ``a`` and ``c`` are at most ``1 / cos(b)``
-    times it, which depends on the state (and has no bound near ``|b| = pi/2`` where ``b`` is
-    free): :meth:`ConstraintEvaluator.reaches` and :func:`_outer_euler_turn` apply it."""
+
+def _rate_gains(parameterization: int, tol: tuple) -> tuple[float, float, float]:
+    """Per error component of an orientation constraint, 0 where its tolerance can never be
+    exceeded, else a factor on the link's angular speed (relative to the header).
+
+    Rotation vector: a bound on the components' rates while the constraint holds,
+    ``(theta / 2) / sin(theta / 2)`` (the inverse Jacobian of the exponential map) at the
+    largest angle ``theta`` inside the tolerances. x-y-z Euler angles ``(a, b, c)``: 1. The
+    rate of ``b`` is at most the angular speed, but those of ``a`` and ``c`` are at most
+    ``1 / cos(b)`` times it, a bound that depends on the state (and has none near
+    ``|b| = pi/2`` where ``b`` is free): :meth:`ConstraintEvaluator.reaches` and
+    :func:`_outer_euler_turn` apply it."""
     if parameterization == msgs.OrientationConstraint.ROTATION_VECTOR:
         active = [t < math.pi for t in tol]
         theta = min(math.pi, math.sqrt(sum(min(t, math.pi) ** 2 for t in tol)))
