@@ -441,6 +441,31 @@ def test_reaches_hold_across_gimbal_lock(panda, ready):
         assert np.median(reaches) > 0.01 * delta  # not vacuous either
 
 
+def test_reaches_stop_short_of_where_the_euler_angles_switch_to_gimbal_lock(panda, ready):
+    """Within 1.4e-6 rad of |b| = pi/2 the Euler angles are read as in gimbal lock (all of the
+    outer turn in a, c = 0): a state short of that switch (a = 0.25, c = 0.2) holds x and z
+    tolerances of 0.3 and 0.4, the states past it (a = 0.45) do not. The reach stops short of
+    the switch; in the lock it is 0 (the outer angles jump), and -1 where violated."""
+    scene = PlanningScene(panda)
+    R_hand = ready.get_global_link_transform("panda_hand")[:3, :3]
+    rng = np.random.default_rng(12)
+    q = ready.positions.copy()
+    for delta, a, expected in ((2e-6, 0.25, None), (1e-7, 0.05, 0.0), (1e-7, 0.25, -1.0)):
+        diff = _rot("x", a) @ _rot("y", math.pi / 2 - delta) @ _rot("z", 0.2)
+        oc = _orientation("panda_hand", R_hand @ diff.T, (0.3, math.pi / 2, 0.4))
+        ev = KinematicConstraintSet(panda, msgs.Constraints(orientation_constraints=[oc])).bind(scene)
+        rows = ev.motion_rates()
+        for _ in range(40):
+            D = np.zeros_like(q)
+            D[:7] = rng.normal(0.0, 1.0, 7)
+            (tau,) = ev.reaches(q, D, rows @ np.abs(D))
+            if expected is not None:
+                assert tau == expected and ev(q) == (expected == 0.0)
+                continue
+            assert tau > 0.0
+            assert all(ev(q + t * D) for t in tau * np.linspace(-1.0, 1.0, 401)[1:-1])
+
+
 def _check_reaches(panda, ready, constraints, seed):
     """Checks reaches() over 300 states near ``ready`` and motions from them (half heading
     for a boundary): every state within a reach holds its constraint. Returns, per motion
@@ -485,6 +510,23 @@ def _check_reaches(panda, ready, constraints, seed):
                 shares.append(tau / min(broken))
     assert signs == {True, False}
     return np.array(shares), np.array(middles)
+
+
+@pytest.mark.parametrize("kind, dims, outside", [(msgs.SolidPrimitive.BOX, (0.2, 0.2, 0.2), (1, 1, 0)),
+                                                (msgs.SolidPrimitive.CYLINDER, (0.2, 0.1), (1, 0, 1))])
+def test_slacks_and_reaches_agree_with_the_check_at_a_corner(panda, ready, kind, dims, outside):
+    """A point 0.8e-9 beyond two faces of a box (or beyond a cylinder's side and cap) is
+    1.13e-9 outside it, more than the checks' slack of 1e-9: slacks() is negative and
+    reaches() says -1, as the check says violated."""
+    p = ready.get_global_link_transform("panda_hand")[:3, 3]
+    half = np.array([dims[0], dims[1], dims[2]]) / 2 if len(dims) == 3 else np.array([dims[1], 0.0, dims[0] / 2])
+    pose = np.eye(4)
+    pose[:3, 3] = p - (half + 0.8e-9) * np.array(outside)
+    ev = KinematicConstraintSet(panda, msgs.Constraints(position_constraints=[
+        _position("panda_hand", kind, dims, pose)])).bind(PlanningScene(panda))
+    q, D = ready.positions, np.eye(9)[0] * 1e-3
+    assert not ev(q) and ev.violation(q) == pytest.approx(1.13e-9, rel=0.01)
+    assert ev.slacks(q)[0] < 0.0 and ev.reaches(q, D, ev.motion_rates() @ np.abs(D)) == [-1.0]
 
 
 def test_motion_rates_are_none_only_where_no_bound_exists(panda, ready):

@@ -56,6 +56,16 @@ __all__ = [
 # Slack on every comparison, so a state placed exactly on a tolerance boundary (e.g. by
 # interpolation or projection) counts as satisfying it.
 _EPS = 1e-9
+#: The slack of a box's or cylinder's faces as :meth:`ConstraintEvaluator.slacks` and
+#: :meth:`~ConstraintEvaluator.reaches` take them: at a corner (or rim) where three (two)
+#: faces meet, the region they bound then reaches no farther than ``_EPS`` outside, as the
+#: evaluator's checks allow.
+_FACE_EPS = {msgs.SolidPrimitive.BOX: _EPS / math.sqrt(3.0), msgs.SolidPrimitive.CYLINDER: _EPS / math.sqrt(2.0),
+             msgs.SolidPrimitive.SPHERE: _EPS}
+#: ``sin(b)`` from which the Euler angles are taken as in gimbal lock (see :func:`euler_xyz`),
+#: and the middle angle ``b`` there [rad]: the outer angles jump as ``|b|`` reaches it.
+_LOCK_SIN = 1.0 - 1e-12
+_LOCK_ANGLE = math.asin(_LOCK_SIN)
 _WEIGHT_EPS = np.finfo(float).eps
 #: Orientation tolerances from this value up read as pi (the axis is free) [rad].
 PI_AS_WRITTEN = 3.14
@@ -71,7 +81,7 @@ def _euler_xyz_list(R: list) -> tuple[float, float, float]:
     # on nested lists: plain float arithmetic is several times faster than numpy for 3x3
     sb = min(1.0, max(-1.0, R[0][2]))
     b = math.asin(sb)
-    if abs(sb) < 1.0 - 1e-12:
+    if abs(sb) < _LOCK_SIN:
         a = math.atan2(-R[1][2], R[2][2])
         c = math.atan2(-R[0][1], R[0][0])
     else:  # gimbal lock: only a + c (or a - c) is defined; put it all in a
@@ -155,6 +165,10 @@ class _Region:
         radial = max(0.0, math.hypot(x, y) - d[1])
         axial = max(0.0, abs(z) - d[0])
         return math.hypot(radial, axial)
+
+    @property
+    def eps(self) -> float:
+        return _FACE_EPS[self.kind]
 
     def inside_local(self, local) -> float:
         """How far [m] a point in the primitive's frame is inside it: the distance it must
@@ -246,9 +260,11 @@ def _outer_euler_turn(b: float, margin: float) -> float:
     ``margin`` from a state whose middle angle is ``b``: the rate of the outer angles is at
     most ``1 / cos(|b|)`` times the angular speed, and ``|b|`` grows at most as fast as the
     link turns, so the change after turning ``s`` is at most
-    ``F(|b| + s) - F(|b|)``, ``F(x) = asinh(tan(x))`` (the integral of ``1 / cos``)."""
-    b = min(abs(b), math.pi / 2)
-    return math.atan(math.sinh(math.asinh(math.tan(b)) + margin)) - b
+    ``F(|b| + s) - F(|b|)``, ``F(x) = asinh(tan(x))`` (the integral of ``1 / cos``); and at
+    most the turn to the gimbal lock, where the angles jump."""
+    b = min(abs(b), _LOCK_ANGLE)
+    turn = math.atan(math.sinh(math.asinh(math.tan(b)) + margin)) - b
+    return min(turn, _LOCK_ANGLE - b)  # where the angles jump (see euler_xyz)
 
 
 #: Bound on how fast the inverse Jacobian of the rotation vector changes, per unit of the
@@ -846,10 +862,10 @@ class ConstraintEvaluator:
                 x = r.pose_inv.act(point_h)
                 if r.kind == msgs.SolidPrimitive.BOX:  # each face at the rate the point nears it
                     v_r = (r.pose_inv.rotation @ velocity).tolist()
-                    reach = min(_reach(d + _EPS - abs(c), abs(vc), growth, L)
+                    reach = min(_reach(d + r.eps - abs(c), abs(vc), growth, L)
                                 for d, c, vc in zip(r.dims, x.tolist(), v_r))
                 else:
-                    reach = _reach(r.inside_local(x) + _EPS, float(np.linalg.norm(velocity)), growth, L)
+                    reach = _reach(r.inside_local(x) + r.eps, float(np.linalg.norm(velocity)), growth, L)
                 best = max(best, reach)
             out.append(best)
         for (o, link_ref, (hid, hoff)), L in zip(self._orientations, bounds[len(self._positions):]):
@@ -885,15 +901,15 @@ class ConstraintEvaluator:
                 errors = _euler_xyz_list(diff.tolist())
                 a, b, _ = errors
                 sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
-                if cb < 1e-9:  # gimbal lock: a and c are not even continuous here
+                if abs(sb) >= _LOCK_SIN:  # gimbal lock: a and c jump here
                     out.append(-1.0 if o.diff_violation(diff) > 0.0 else 0.0 if L > 0.0 else math.inf)
                     continue
                 u3w = sb * wx - sa * cb * wy + ca * cb * wz
                 speeds = ((wx - sb * u3w) / (cb * cb), ca * wy + sa * wz, (u3w - sb * wx) / (cb * cb))
                 # the rates of a and c are at most 1 / cos(b) times the angular speed: bound
-                # |b| by its tolerance, or (nearer pi/2) by halfway to pi/2, which it keeps
-                # while the link turns less than the difference
-                ty, b_max = o._tol[1], 0.5 * (abs(b) + math.pi / 2)
+                # |b| by its tolerance, or (nearer the lock) by halfway to the lock, which it
+                # keeps while the link turns less than the difference
+                ty, b_max = o._tol[1], 0.5 * (abs(b) + _LOCK_ANGLE)
                 best = math.inf
                 if b_max < ty:
                     best = (b_max - abs(b)) / L if L > 0.0 else math.inf
@@ -915,7 +931,7 @@ class ConstraintEvaluator:
         out = []
         for p, link_ref, frame_ref in self._positions:
             point = self._pose(frame_ref).actInv(self._pose(link_ref).act(p.offset))
-            out.append(max(r.inside_local(r.pose_inv.act(point)) for r in p.regions) + _EPS)
+            out.append(max(r.inside_local(r.pose_inv.act(point)) + r.eps for r in p.regions))
         for o, link_ref, frame_ref in self._orientations:
             out.append(o.diff_slack(self._diff(link_ref, frame_ref)))
         return out
