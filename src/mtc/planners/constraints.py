@@ -66,6 +66,9 @@ _FACE_EPS = {msgs.SolidPrimitive.BOX: _EPS / math.sqrt(3.0), msgs.SolidPrimitive
 #: and the middle angle ``b`` there [rad]: the outer angles jump as ``|b|`` reaches it.
 _LOCK_SIN = 1.0 - 1e-12
 _LOCK_ANGLE = math.asin(_LOCK_SIN)
+#: How far short of ``_LOCK_ANGLE`` [rad] a reach of Euler angles stops: rounding moves ``b``
+#: there by up to about 1e-9 (an error of 1e-15 in ``sin b`` over ``cos b`` = 1.4e-6).
+_LOCK_GUARD = 1e-8
 _WEIGHT_EPS = np.finfo(float).eps
 #: Orientation tolerances from this value up read as pi (the axis is free) [rad].
 PI_AS_WRITTEN = 3.14
@@ -264,7 +267,7 @@ def _outer_euler_turn(b: float, margin: float) -> float:
     most the turn to the gimbal lock, where the angles jump."""
     b = min(abs(b), _LOCK_ANGLE)
     turn = math.atan(math.sinh(math.asinh(math.tan(b)) + margin)) - b
-    return min(turn, _LOCK_ANGLE - b)  # where the angles jump (see euler_xyz)
+    return max(0.0, min(turn, _LOCK_ANGLE - _LOCK_GUARD - b))  # where the angles jump (see euler_xyz)
 
 
 #: Bound on how fast the inverse Jacobian of the rotation vector changes, per unit of the
@@ -901,7 +904,7 @@ class ConstraintEvaluator:
                 errors = _euler_xyz_list(diff.tolist())
                 a, b, _ = errors
                 sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
-                if abs(sb) >= _LOCK_SIN:  # gimbal lock: a and c jump here
+                if abs(b) >= _LOCK_ANGLE - _LOCK_GUARD:  # (near) gimbal lock: a and c jump there
                     out.append(-1.0 if o.diff_violation(diff) > 0.0 else 0.0 if L > 0.0 else math.inf)
                     continue
                 u3w = sb * wx - sa * cb * wy + ca * cb * wz
@@ -909,7 +912,7 @@ class ConstraintEvaluator:
                 # the rates of a and c are at most 1 / cos(b) times the angular speed: bound
                 # |b| by its tolerance, or (nearer the lock) by halfway to the lock, which it
                 # keeps while the link turns less than the difference
-                ty, b_max = o._tol[1], 0.5 * (abs(b) + _LOCK_ANGLE)
+                ty, b_max = o._tol[1], 0.5 * (abs(b) + _LOCK_ANGLE - _LOCK_GUARD)
                 best = math.inf
                 if b_max < ty:
                     best = (b_max - abs(b)) / L if L > 0.0 else math.inf
