@@ -905,7 +905,8 @@ class ConstraintEvaluator:
                 a, b, _ = errors
                 sa, ca, sb, cb = math.sin(a), math.cos(a), math.sin(b), math.cos(b)
                 if abs(b) >= _LOCK_ANGLE - _LOCK_GUARD:  # (near) gimbal lock: a and c jump there
-                    out.append(-1.0 if o.diff_violation(diff) > 0.0 else 0.0 if L > 0.0 else math.inf)
+                    # (rounding decides the branch, even where the link does not turn)
+                    out.append(-1.0 if o.diff_violation(diff) > 0.0 else 0.0)
                     continue
                 u3w = sb * wx - sa * cb * wy + ca * cb * wz
                 speeds = ((wx - sb * u3w) / (cb * cb), ca * wy + sa * wz, (u3w - sb * wx) / (cb * cb))
