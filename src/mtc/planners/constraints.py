@@ -240,8 +240,8 @@ class _Orientation:
         angles: the middle one changes at most as fast as the link turns, the outer ones at
         most ``1 / cos(b)`` times as fast, where ``|b|`` has grown by at most the angle turned;
         so an outer margin ``m`` lasts while ``F(|b| + turn) - F(|b|) < m``, ``F`` the inverse
-        Gudermannian (:func:`_outer_euler_turn`), or, while ``b`` keeps a tolerance ``t_b``
-        below pi/2, while ``turn / cos(t_b) < m``."""
+        Gudermannian (:func:`_outer_euler_turn`, which also stops short of gimbal lock), or,
+        while ``b`` keeps a tolerance ``t_b`` short of the lock, while ``turn / cos(t_b) < m``."""
         errors, best = self._abs_errors(diff), math.inf
         euler = self.parameterization != msgs.OrientationConstraint.ROTATION_VECTOR
         for k, (e, t, g) in enumerate(zip(errors, self._tol, self._gains)):
@@ -250,7 +250,7 @@ class _Orientation:
             margin = t + _EPS - e
             if euler and k != 1 and margin > 0.0:
                 turn = _outer_euler_turn(errors[1], margin)
-                if self._tol[1] < math.pi / 2:  # or |b| stays within its tolerance: 1 / cos(t_b)
+                if self._tol[1] < _LOCK_ANGLE - _LOCK_GUARD:  # or |b| keeps its tolerance: 1 / cos(t_b)
                     turn = max(turn, margin * math.cos(self._tol[1]))
                 best = min(best, turn)
             else:
