@@ -98,6 +98,15 @@ def test_ptp_scaling_slows_down(ready_scene):
     assert 10**0.5 * fast - 1e-9 <= slow <= 10 * fast + 1e-9
 
 
+@pytest.mark.parametrize("pid", ["PTP", "LIN"])
+def test_a_motion_of_absurd_length_fails_with_a_message(ready_scene, pid):
+    """Scaling factors of 1e-200 (inside (0, 1]) make a motion of 1e199 s, which sampled every
+    0.1 s would need more waypoints than any machine holds: the request fails and says why."""
+    result, traj = _pilz(pid, 1e-200, 1.0).plan(ready_scene, _goal(ready_scene, panda_joint1=0.3), ARM, 1.0)
+    assert not result and traj is None
+    assert result.message.startswith("PLANNING_FAILED: the motion takes ") and "raise the scaling factors" in result.message
+
+
 def test_ptp_pose_goal(ready_scene):
     """A pose goal is reached by IK first."""
     target = ready_scene.current_state.get_global_link_transform("panda_hand_tcp")

@@ -232,6 +232,30 @@ def test_scaling_slows_down(panda):
     assert slow == pytest.approx(2 * fast, rel=0.2)
 
 
+@pytest.mark.parametrize("vs, acs, ref_vs, ref_acs, stretch", [
+    (1e-200, 1.0, 1e-6, 1.0, 1e194),  # velocity-bound: the duration grows as 1 / vs
+    (1.0, 1e-300, 1.0, 1e-12, 1e144),  # acceleration-bound: as 1 / sqrt(acs)
+    (1e-300, 1e-300, 1e-6, 1e-6, 1e294),  # velocity-bound
+])
+def test_tiny_scaling_factors_still_give_a_timing(panda, vs, acs, ref_vs, ref_acs, stretch):
+    """A factor of 1e-200 is absurd but inside (0, 1]: the squared path speeds the passes work
+    with would underflow to 0 (zero times, or a division by zero on a straight line). The
+    motion is timed as a faster one with limits in range, then stretched: times increase, the
+    waypoints keep the scaled limits, and the duration is that of representable factors under
+    which the same limit binds, stretched as that limit says."""
+    vmax, amax = _limits(panda, vs, acs)
+    line = np.linspace(0.0, 1.0, 5)[:, None] * np.array([0.4, 0.2, 0, 0, 0, 0, 0.3])
+    ready = _ready(panda).get_joint_group_positions("panda_arm")
+    for positions in (ready + line, _curved_path(panda, np.random.default_rng(5)).positions[:, :7]):
+        traj = time_parameterize(RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), positions), vs, acs)
+        assert np.all(np.diff(traj.times) > 0) and np.isfinite(traj.duration)
+        assert np.all(np.abs(traj.velocities) <= vmax * (1 + 1e-9))
+        assert np.all(np.abs(traj.accelerations) <= amax * (1 + 1e-9))
+        ref = time_parameterize(RobotTrajectory.from_positions(panda, "panda_arm", _ready(panda), positions),
+                                ref_vs, ref_acs)
+        assert traj.duration == pytest.approx(ref.duration * stretch, rel=1e-5)
+
+
 def test_fifty_waypoints_under_five_milliseconds(panda):
     """A 50-waypoint path is timed in under 5 ms (median of 20, CPU time of this process, so
     that other processes on a busy machine do not count)."""
@@ -467,6 +491,26 @@ def test_trapezoid_profile_with_deceleration():
         assert profile.at_time(profile.time_at(s))[0] == pytest.approx(s, abs=1e-9)
     with pytest.raises(ValueError, match="positive length and limits"):
         TrapezoidProfile(1.0, 0.0, 1.0)
+
+
+@pytest.mark.parametrize("length, speed, accel, dmax", [(1.0, 1e-12, 1e-12, None), (1e-6, 1e-200, 1.0, 2.0),
+                                                         (2.0, 1.0, 1e-300, None), (1.0, 0.5, 2.25, 5.0)])
+def test_trapezoid_profile_of_a_very_long_motion(length, speed, accel, dmax):
+    """ruckig refuses motions longer than about 1e10 s: they are computed on a faster time
+    scale and stretched back, with the closed-form duration and top speed, accelerations
+    within the limits, and time_at the inverse of at_time (the last case is the usual one)."""
+    profile = TrapezoidProfile(length, speed, accel, dmax)
+    d = accel if dmax is None else dmax
+    cruise = speed if speed * speed * (1 / accel + 1 / d) / 2 <= length else math.sqrt(2 * length / (1 / accel + 1 / d))
+    expected = cruise / accel + cruise / d + (length - cruise**2 / (2 * accel) - cruise**2 / (2 * d)) / cruise
+    assert profile.duration == pytest.approx(expected, rel=1e-9)
+    assert max(abs(profile.at_time(t)[1]) for t in np.linspace(0, profile.duration, 101)) == pytest.approx(cruise, rel=1e-9)
+    assert profile.at_time(profile.duration)[0] == pytest.approx(length, rel=1e-12)
+    ts = np.concatenate([np.linspace(0, profile.duration, 101), profile.duration * np.logspace(-14, -1, 27)])
+    assert max(profile.at_time(t)[2] for t in ts) <= accel * (1 + 1e-9)
+    assert min(profile.at_time(t)[2] for t in ts) >= -d * (1 + 1e-9)
+    for s in (0.1, 0.5, 0.9):
+        assert profile.at_time(profile.time_at(s * length))[0] == pytest.approx(s * length, rel=1e-9)
 
 
 @pytest.fixture(scope="module")

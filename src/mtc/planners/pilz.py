@@ -113,6 +113,10 @@ class _Failure(Exception):
         self.positions = positions
 
 
+#: Most waypoints a Pilz motion may have (its samples, :attr:`PilzPipeline.sampling_time` apart).
+MAX_WAYPOINTS = 1_000_000
+
+
 class PilzPipeline:
     """The Pilz planners for one robot model.
 
@@ -255,6 +259,17 @@ class PilzPipeline:
                 time_parameterize(traj, vs, acs)
             return PlannerResult(False, failure.message), traj
 
+    def _steps(self, duration: float, *counts: int) -> int:
+        """The number of steps of a motion lasting ``duration``: at least ``counts`` and one
+        per :attr:`sampling_time`; a failure past :data:`MAX_WAYPOINTS` waypoints (a motion of
+        days, from tiny scaling factors)."""
+        steps = max(*counts, math.ceil(duration / self.sampling_time - 1e-9))
+        if steps >= MAX_WAYPOINTS:
+            raise _Failure(error_message(
+                "PLANNING_FAILED", f"the motion takes {duration:.3g} s: sampled every {self.sampling_time:g} s it "
+                f"would need more than {MAX_WAYPOINTS:,} waypoints (raise the scaling factors)"))
+        return steps
+
     def _check_endpoints(self, validity: PathValidity, start_q, goal_q, jmg, check_goal=True):
         if _outside_bounds(self.robot_model, jmg, start_q):
             raise _Failure(error_message("START_STATE_INVALID", f"start state is outside the joint bounds of group '{jmg.name}'"))
@@ -322,9 +337,9 @@ class PilzPipeline:
         vmax = np.full(len(idx), float(np.min(model.velocity_limits[idx])) * vs)
         amax = np.full(len(idx), float(np.min(model.acceleration_limits[idx])) * acs)
         duration, sample = synchronized_ptp(q0, q0 + delta, vmax, amax)
-        steps = max(
+        steps = self._steps(
+            duration,
             1,
-            math.ceil(duration / self.sampling_time - 1e-9),
             # no joint moves faster than the common limit: no step between samples is longer
             math.ceil(duration * float(np.max(vmax)) / self.max_joint_step - 1e-9),
         )
@@ -458,11 +473,11 @@ class PilzPipeline:
 
         # the geometry first: waypoints evenly spaced along the path, each solved by IK
         duration = TrapezoidProfile(1.0, v_s, a_s).duration
-        steps = max(
+        steps = self._steps(
+            duration,
             2,
             math.ceil(length / self.max_cartesian_step - 1e-9),
             math.ceil(rot_angle / self.max_rotation_step - 1e-9),
-            math.ceil(duration / self.sampling_time - 1e-9),
         )
         fractions = np.linspace(0.0, 1.0, steps + 1)
         Q = [start_q]

@@ -67,6 +67,12 @@ _REPEATED = 1e-12  # a waypoint closer than this to the one before it repeats it
 _MIN_PARTS = 2  # grid intervals per waypoint interval, at least
 _NEXT_SHARE = 0.5  # a grid point's speed leaves the next one at least this share of its best (see _time_optimal)
 _STRAIGHT = 1e-9  # off a line by this fraction of the step to the next waypoint: on it (see _straight_line)
+#: Scaling factors below this are timed on a faster copy of the limits (see time_parameterize):
+#: the passes work with squared path speeds, which underflow to 0 below about 1e-154.
+_TINY_SCALING = 1e-100
+#: A trapezoid profile expected to last longer than this [s] is computed on a faster time scale
+#: (see TrapezoidProfile).
+_LONG_PROFILE = 1e6
 
 
 def check_scaling_factor(name: str, value: float) -> float:
@@ -203,7 +209,7 @@ def _straight_line(Q, vmax, amax):
         return None
     s[-1] = length  # exactly: the time to rest grows with the square root of what is left
     ramp = min(0.5 * sv * sv / sa, 0.5 * length)  # path length of the speed-up (and slow-down)
-    peak = math.sqrt(2.0 * sa * ramp)
+    peak = min(sv, math.sqrt(sa * length))  # (as sqrt(2 sa ramp), also where ramp underflows)
     t_ramp = peak / sa
     rest = length - s
     up, down = s < ramp, s >= length - ramp
@@ -448,8 +454,11 @@ def time_parameterize(
         raise ValueError(f"grid_points must be a whole number >= 1, got {grid_points!r}")
     model = trajectory.robot_model
     idx = trajectory.group.variable_indices
-    vmax = model.velocity_limits[idx] * vs
-    amax = model.acceleration_limits[idx] * acs
+    # Time is stretched by k where a factor is tiny: a motion k times faster with its limits k
+    # (velocities) and k^2 (accelerations) times higher keeps the passes' numbers in range
+    k = math.exp(-0.5 * math.log(vs) - 0.25 * math.log(acs)) if min(vs, acs) < _TINY_SCALING else 1.0
+    vmax = model.velocity_limits[idx] * (vs * k)
+    amax = model.acceleration_limits[idx] * (acs * k * k)
     if max_cartesian_speed > 0:
         if not cartesian_speed_limited_link:
             raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
@@ -475,11 +484,11 @@ def time_parameterize(
         P, PJ = _link_positions(trajectory, cartesian_speed_limited_link)
     timed = _straight_line(Q, vmax, amax) if P is None and len(Q) > 1 else None
     if timed is None:
-        timed = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed), PJ)
+        timed = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed) * k, PJ)
     times, V, A = timed
-    trajectory.times = times
-    trajectory.velocities = V
-    trajectory.accelerations = A
+    trajectory.times = times * k if k != 1.0 else times
+    trajectory.velocities = V / k if k != 1.0 else V
+    trajectory.accelerations = A / (k * k) if k != 1.0 else A
     return trajectory
 
 
@@ -556,24 +565,33 @@ class TrapezoidProfile:
                 f"a trapezoid profile needs positive length and limits, got {length}, {vmax}, {amax}, {dmax}"
             )
         self.length = float(length)
+        dmax = amax if dmax is None else dmax
+        # ruckig refuses motions of more than about 1e10 s (tiny scaling factors): those are
+        # computed k times faster, with limits k (speed) and k^2 (acceleration) times higher,
+        # and stretched back; an acceleration that would exceed the speed by 1e12 is capped
+        # there (its ramps then last 1e-12 of the motion)
+        guess = max(self.length / vmax, math.sqrt(self.length / min(amax, dmax)))
+        self._k = k = guess if guess > _LONG_PROFILE else 1.0
+        speed = vmax * k
         otg = ruckig.Ruckig(1)
         inp = ruckig.InputParameter(1)
         inp.current_position = [0.0]
         inp.target_position = [self.length]
-        inp.max_velocity = [float(vmax)]
-        inp.max_acceleration = [float(amax)]
-        inp.min_acceleration = [-float(amax if dmax is None else dmax)]
+        inp.max_velocity = [float(speed)]
+        inp.max_acceleration = [float(min(amax * k * k, 1e12 * speed) if k != 1.0 else amax)]
+        inp.min_acceleration = [-float(min(dmax * k * k, 1e12 * speed) if k != 1.0 else dmax)]
         inp.max_jerk = [math.inf]  # infinite jerk: a trapezoidal velocity profile
         self._traj = ruckig.Trajectory(1)
         result = otg.calculate(inp, self._traj)
         if result not in (ruckig.Result.Working, ruckig.Result.Finished):
             raise RuntimeError(f"ruckig could not compute the profile: {result}")
-        self.duration = float(self._traj.duration)
+        self.duration = float(self._traj.duration) * k
 
     def at_time(self, t: float) -> tuple[float, float, float]:
         """``(s, ṡ, s̈)`` at time ``t`` (clamped into [0, duration])."""
-        p, v, a = self._traj.at_time(min(max(float(t), 0.0), self.duration))
-        return float(p[0]), float(v[0]), float(a[0])
+        k = self._k
+        p, v, a = self._traj.at_time(min(max(float(t), 0.0), self.duration) / k)
+        return float(p[0]), float(v[0]) / k, float(a[0]) / (k * k)
 
     def time_at(self, s: float) -> float:
         """The time at which the coordinate reaches ``s`` (in [0, length])."""
@@ -582,7 +600,7 @@ class TrapezoidProfile:
         if s <= 0.0:
             return 0.0
         t = self._traj.get_first_time_at_position(0, float(s))
-        return self.duration if t is None else float(t)
+        return self.duration if t is None else float(t) * self._k
 
 
 def synchronized_ptp(
