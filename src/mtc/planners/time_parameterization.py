@@ -486,9 +486,9 @@ def time_parameterize(
     if timed is None:
         timed = _time_optimal(Q, vmax, amax, grid_points, P, float(max_cartesian_speed) * k, PJ)
     times, V, A = timed
-    trajectory.times = times * k if k != 1.0 else times
-    trajectory.velocities = V / k if k != 1.0 else V
-    trajectory.accelerations = A / (k * k) if k != 1.0 else A
+    trajectory.times = times * k  # (exact where k is 1)
+    trajectory.velocities = V / k
+    trajectory.accelerations = A / (k * k)
     return trajectory
 
 
