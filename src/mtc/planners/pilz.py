@@ -113,8 +113,9 @@ class _Failure(Exception):
         self.positions = positions
 
 
-#: Most waypoints a Pilz motion may have (its samples, :attr:`PilzPipeline.sampling_time` apart).
-MAX_WAYPOINTS = 1_000_000
+#: Most waypoints a Pilz motion may have (its samples, :attr:`PilzPipeline.sampling_time` apart):
+#: about 2 s and 250 MB of waypoints for a motion of 5.5 hours.
+MAX_WAYPOINTS = 200_000
 
 
 class PilzPipeline:
@@ -262,7 +263,7 @@ class PilzPipeline:
     def _steps(self, duration: float, *counts: int) -> int:
         """The number of steps of a motion lasting ``duration``: at least ``counts`` and one
         per :attr:`sampling_time`; a failure past :data:`MAX_WAYPOINTS` waypoints (a motion of
-        days, from tiny scaling factors)."""
+        hours, from tiny scaling factors)."""
         steps = max(*counts, math.ceil(duration / self.sampling_time - 1e-9))
         if steps >= MAX_WAYPOINTS:
             raise _Failure(error_message(
