@@ -256,6 +256,19 @@ def test_tiny_scaling_factors_still_give_a_timing(panda, vs, acs, ref_vs, ref_ac
         assert traj.duration == pytest.approx(ref.duration * stretch, rel=1e-5)
 
 
+def test_a_factor_below_the_smallest_accepted_is_refused(panda):
+    """Below 1e-300 (a motion that slow could last longer than a float holds, and the
+    factor itself may be a denormal) a scaling factor is refused, saying what is allowed."""
+    traj = _curved_path(panda, np.random.default_rng(6))
+    before = traj.positions.copy()
+    for vs, acs in ((1e-310, 1.0), (1.0, 5e-324)):
+        with pytest.raises(ValueError, match=r"must be in \(0, 1\] and not below 1e-300"):
+            time_parameterize(traj, vs, acs)
+        np.testing.assert_array_equal(traj.positions, before)
+    with pytest.raises(ValueError, match="lasts longer than a float holds"):
+        TrapezoidProfile(1.0, 1e-310, 1.0)
+
+
 def test_fifty_waypoints_under_five_milliseconds(panda):
     """A 50-waypoint path is timed in under 5 ms (median of 20, CPU time of this process, so
     that other processes on a busy machine do not count)."""

@@ -70,9 +70,12 @@ _STRAIGHT = 1e-9  # off a line by this fraction of the step to the next waypoint
 #: Scaling factors below this are timed on a faster copy of the limits (see time_parameterize):
 #: the passes work with squared path speeds, which underflow to 0 below about 1e-154.
 _TINY_SCALING = 1e-100
-#: A trapezoid profile expected to last longer than this [s] is computed on a faster time scale
-#: (see TrapezoidProfile).
-_LONG_PROFILE = 1e6
+#: The smallest scaling factor accepted (besides 0, the default): a motion still slower could
+#: last longer than a float can say.
+MIN_SCALING_FACTOR = 1e-300
+#: A trapezoid profile expected to last longer than this [s] (ruckig refuses about 1e10 s) is
+#: computed on a faster time scale (see TrapezoidProfile).
+_LONG_PROFILE = 1e9
 
 
 def check_scaling_factor(name: str, value: float) -> float:
@@ -80,13 +83,16 @@ def check_scaling_factor(name: str, value: float) -> float:
     time parameterization takes it).
 
     Raises:
-        ValueError: not a number in [0, 1].
+        ValueError: not a number in [0, 1], or below :data:`MIN_SCALING_FACTOR` (but not 0).
     """
     if not msgs.is_number(value):
         raise ValueError(f"{name} must be a number in (0, 1] (0: the default, 1.0), got {value!r}")
     v = float(value)
     if not (0.0 <= v <= 1.0):
         raise ValueError(f"{name} must be in (0, 1] (0: the default, 1.0), got {value!r}")
+    if 0.0 < v < MIN_SCALING_FACTOR:
+        raise ValueError(f"{name} must be in (0, 1] and not below {MIN_SCALING_FACTOR:g} "
+                         f"(a motion that slow could last longer than a float holds), got {value!r}")
     return v if v > 0.0 else 1.0
 
 
@@ -209,7 +215,8 @@ def _straight_line(Q, vmax, amax):
         return None
     s[-1] = length  # exactly: the time to rest grows with the square root of what is left
     ramp = min(0.5 * sv * sv / sa, 0.5 * length)  # path length of the speed-up (and slow-down)
-    peak = min(sv, math.sqrt(sa * length))  # (as sqrt(2 sa ramp), also where ramp underflows)
+    # (where the ramp underflows, from tiny scaling factors: the same peak, without it)
+    peak = math.sqrt(2.0 * sa * ramp) if ramp > 1e-250 else min(sv, math.sqrt(sa * length))
     t_ramp = peak / sa
     rest = length - s
     up, down = s < ramp, s >= length - ramp
@@ -455,10 +462,12 @@ def time_parameterize(
     model = trajectory.robot_model
     idx = trajectory.group.variable_indices
     # Time is stretched by k where a factor is tiny: a motion k times faster with its limits k
-    # (velocities) and k^2 (accelerations) times higher keeps the passes' numbers in range
+    # (velocities) and k^2 (accelerations) times higher keeps the passes' numbers in range;
+    # an acceleration factor still above 1e100 is capped there (the speed-ups then take
+    # 1e-100 of the time or less)
     k = math.exp(-0.5 * math.log(vs) - 0.25 * math.log(acs)) if min(vs, acs) < _TINY_SCALING else 1.0
     vmax = model.velocity_limits[idx] * (vs * k)
-    amax = model.acceleration_limits[idx] * (acs * k * k)
+    amax = model.acceleration_limits[idx] * (min(acs * k * k, 1e100) if k != 1.0 else acs)
     if max_cartesian_speed > 0:
         if not cartesian_speed_limited_link:
             raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")
@@ -488,7 +497,7 @@ def time_parameterize(
     times, V, A = timed
     trajectory.times = times * k  # (exact where k is 1)
     trajectory.velocities = V / k
-    trajectory.accelerations = A / (k * k)
+    trajectory.accelerations = A / k / k  # (k * k may overflow)
     return trajectory
 
 
@@ -571,6 +580,8 @@ class TrapezoidProfile:
         # and stretched back; an acceleration that would exceed the speed by 1e12 is capped
         # there (its ramps then last 1e-12 of the motion)
         guess = max(self.length / vmax, math.sqrt(self.length / min(amax, dmax)))
+        if not math.isfinite(guess):
+            raise ValueError(f"a trapezoid profile of {length} at {vmax}, {amax}, {dmax} lasts longer than a float holds")
         self._k = k = guess if guess > _LONG_PROFILE else 1.0
         speed = vmax * k
         otg = ruckig.Ruckig(1)
@@ -591,7 +602,7 @@ class TrapezoidProfile:
         """``(s, ṡ, s̈)`` at time ``t`` (clamped into [0, duration])."""
         k = self._k
         p, v, a = self._traj.at_time(min(max(float(t), 0.0), self.duration) / k)
-        return float(p[0]), float(v[0]) / k, float(a[0]) / (k * k)
+        return float(p[0]), float(v[0]) / k, float(a[0]) / k / k
 
     def time_at(self, s: float) -> float:
         """The time at which the coordinate reaches ``s`` (in [0, length])."""
