@@ -836,8 +836,9 @@ class ConstraintEvaluator:
         ``L sum(|dq|)`` per unit (twice that where the header turns too), and the Jacobian as
         the angles change. The Jacobian of the outer Euler angles grows as ``1 / cos(b)`` with
         the middle angle ``b``: it is bounded by the middle angle's tolerance, or by halfway
-        from ``|b|`` to pi/2 over the turn that cannot take ``|b|`` past that. At pi/2 (gimbal
-        lock) the outer angles jump, so the reach there is 0."""
+        from ``|b|`` to a hair (``_LOCK_GUARD``) short of where the angles are read as in gimbal
+        lock, over the turn that cannot take ``|b|`` past that. There the outer angles jump, so
+        the reach within that hair is 0."""
         pm, data = self._pm, self._data
         pin.forwardKinematics(pm, data, q, dq)  # placements and velocities along dq
         for fid in self._frame_ids:
