@@ -467,7 +467,7 @@ def time_parameterize(
     # 1e-100 of the time or less)
     k = math.exp(-0.5 * math.log(vs) - 0.25 * math.log(acs)) if min(vs, acs) < _TINY_SCALING else 1.0
     vmax = model.velocity_limits[idx] * (vs * k)
-    amax = model.acceleration_limits[idx] * (min(acs * k * k, 1e100) if k != 1.0 else acs)
+    amax = model.acceleration_limits[idx] * min(acs * k * k, 1e100)  # (acs itself where k is 1)
     if max_cartesian_speed > 0:
         if not cartesian_speed_limited_link:
             raise ValueError("max_cartesian_speed > 0 needs a cartesian_speed_limited_link")

@@ -227,9 +227,6 @@ def points_motion_row(model: RobotModel, joint: int, pts: np.ndarray, extra: flo
     reach_own = float(np.linalg.norm(pts, axis=1).max()) + extra  # from the joint's origin
 
     chain = [int(j) for j in pm.supports[joint]][1:]  # joints from the root down to joint
-    # reach[n]: bound on the distance from joint chain[n]'s origin to the geometry, without
-    # the first offset (kept apart to drop its component along the axis)
-    tail = reach_own
     for n, j in enumerate(chain):
         v = joints[j].idx_q
         anc[v] = True
@@ -242,8 +239,10 @@ def points_motion_row(model: RobotModel, joint: int, pts: np.ndarray, extra: flo
             continue
         rest = chain[n + 1:]
         if rest:
+            # the distance from this joint's origin to the geometry, without the first offset
+            # (kept apart to drop its component along the axis)
             first = np.asarray(pm.jointPlacements[rest[0]].translation, dtype=float)
-            reach = _travel(model, rest[0]) + tail + origin_reach(model, rest[0], joint)
+            reach = _travel(model, rest[0]) + reach_own + origin_reach(model, rest[0], joint)
         else:
             # the geometry's own joint: the largest distance of its hull from the axis (a
             # convex function of the point, so largest at a hull point), exactly
