@@ -527,15 +527,21 @@ def _violating_fraction(cset, scene, start, positions, step=None):
     return bad / len(dense)
 
 
-def _assert_no_jump(scene, pipeline, start, goal, c):
-    """Every state the straight motion from ``start`` to ``goal`` is checked at holds the
-    constraints ``c``, some state between them does not, and no plan is found."""
+def _plan_past_a_slip(scene, pipeline, start, goal, c):
+    """Asserts that every state the straight motion from ``start`` to ``goal`` is checked at
+    holds the constraints ``c`` and some state between them does not; returns the plan of the
+    request (0.5 s, seed 0) and the constraint set."""
     cset = KinematicConstraintSet(scene.robot_model, c)
     idx = scene.robot_model.get_joint_model_group(ARM).variable_indices
     ends = np.array([start.positions[idx], goal.positions[idx]])
     assert _violating_fraction(cset, scene, start, ends) == 0.0
     assert _violating_fraction(cset, scene, start, ends, 1e-4) > 0.0
-    result, _ = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=0.5, seed=0)
+    return pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=0.5, seed=0), cset
+
+
+def _assert_no_jump(scene, pipeline, start, goal, c):
+    """As :func:`_plan_past_a_slip`, and no plan is found."""
+    (result, _), _ = _plan_past_a_slip(scene, pipeline, start, goal, c)
     assert not result
     assert result.message.startswith("TIMED_OUT")
 
@@ -602,10 +608,7 @@ def test_a_path_never_slips_past_gimbal_lock(ready_scene, pipeline):
                                  tolerance_above=abs(u - v) / 2 + 0.002, tolerance_below=abs(u - v) / 2 + 0.002, weight=1.0)
             for j, (u, v) in enumerate(zip(a, b))]
     c = msgs.Constraints(orientation_constraints=[oc], joint_constraints=held)
-    cset = KinematicConstraintSet(scene.robot_model, c)
-    assert _violating_fraction(cset, scene, start, np.array([a, b])) == 0.0
-    assert _violating_fraction(cset, scene, start, np.array([a, b]), 1e-4) > 0.0
-    result, traj = pipeline.plan_joint(scene, start, goal, ARM, path_constraints=c, timeout=0.5, seed=0)
+    (result, traj), cset = _plan_past_a_slip(scene, pipeline, start, goal, c)
     if result:  # (a way round the lock within the joints' bounds)
         assert pipeline.last_stats.planner != "straight line"
         assert _violating_fraction(cset, scene, start, traj.positions[:, :7], 1e-4) == 0.0
