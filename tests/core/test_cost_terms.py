@@ -416,3 +416,14 @@ def test_solution_to_msg(t):
     # as MTC: a diff where the end scene derives from the start scene (generator: the same
     # scene; forward: a diff), else the full end scene (backward: the start derives from the end)
     assert [s.scene_diff.is_diff for s in msg.sub_trajectory] == [False, True, True]
+
+
+def test_clearance_with_nothing_to_measure_is_infinite_distance_and_no_cost():
+    """An empty world leaves Clearance nothing to measure: the distance reads as infinite and
+    the cost as 0, summed or not (porting.md: MTC's cumulative sum over no pairs gives 1e5)."""
+    panda = mtc.robots.panda()
+    scene = mtc.PlanningScene(panda)
+    state = core.InterfaceState(scene)
+    sol = _sub(None, start=state, end=state)
+    assert core.Clearance()(sol) == (0.0, "Clearance: distance inf between '' and ''")
+    assert core.Clearance(cumulative=True)(sol) == (0.0, "Clearance: cumulative distance inf")
