@@ -98,13 +98,40 @@ def test_ptp_scaling_slows_down(ready_scene):
     assert 10**0.5 * fast - 1e-9 <= slow <= 10 * fast + 1e-9
 
 
-@pytest.mark.parametrize("pid", ["PTP", "LIN"])
-def test_a_motion_of_absurd_length_fails_with_a_message(ready_scene, pid):
-    """Scaling factors of 1e-200 (inside (0, 1]) make a motion of 1e199 s, which sampled every
-    0.1 s would need more waypoints than any machine holds: the request fails and says why."""
-    result, traj = _pilz(pid, 1e-200, 1.0).plan(ready_scene, _goal(ready_scene, panda_joint1=0.3), ARM, 1.0)
+def test_a_motion_of_absurd_length_fails_with_a_message(ready_scene):
+    """At the smallest scaling Pilz takes, joint 1 across its range takes about 6.5 hours: sampled
+    every 0.1 s that is more waypoints than MAX_WAYPOINTS, so the request fails and says why."""
+    start = _goal(ready_scene, panda_joint1=-2.8)
+    result, traj = _pilz("PTP", 1.1e-4, 1.0).plan(start, _goal(start, panda_joint1=2.8), ARM, 1.0)
     assert not result and traj is None
     assert result.message.startswith("PLANNING_FAILED: the motion takes ") and "raise the scaling factors" in result.message
+
+
+@pytest.mark.parametrize("pid", ["PTP", "LIN", "CIRC"])
+@pytest.mark.parametrize("vs, acs, refused", [
+    (1e-4, 1.0, "Velocity scaling not in range [0.0001, 1], actual value is: 0.0001"),
+    (0.0, 0.0, "Velocity scaling not in range [0.0001, 1], actual value is: 0"),
+    (1.0, 5e-05, "Acceleration scaling not in range [0.0001, 1], actual value is: 5e-05"),
+    (1e-200, 1.0, "Velocity scaling not in range [0.0001, 1], actual value is: 1e-200"),
+])
+def test_scaling_factors_pilz_refuses(ready_scene, pid, vs, acs, refused):
+    """As Pilz's request check: scaling factors must lie in (0.0001, 1], 0 included in what is
+    refused (MoveIt's time parameterization reads 0 as 1.0, Pilz does not), velocity first. The
+    request fails with INVALID_MOTION_PLAN for joint and pose goals alike."""
+    planner = _pilz(pid, vs, acs)
+    goal = _goal(ready_scene, panda_joint1=0.3)
+    result, traj = planner.plan(ready_scene, goal, ARM, 1.0, path_constraints=_circ_constraints("center", (0, 0, 0)))
+    assert not result and traj is None and result.message == f"INVALID_MOTION_PLAN: {refused}"
+    target = goal.current_state.get_global_link_transform("panda_link8")
+    result, _ = planner.plan_to_pose(ready_scene, "panda_link8", np.eye(4), target, ARM, 1.0)
+    assert result.message == f"INVALID_MOTION_PLAN: {refused}"
+
+
+def test_the_smallest_scaling_pilz_takes_plans(ready_scene):
+    """Just above 0.0001 both factors plan (slowly): the bound is Pilz's, not lower."""
+    result, traj = _pilz("PTP", 1.0001e-4, 1.0001e-4).plan(ready_scene, _goal(ready_scene, panda_joint1=0.01), ARM, 1.0)
+    assert result, result.message
+    assert traj.duration > 0.01 / (2.175 * 1.0001e-4) * 0.99
 
 
 def test_ptp_pose_goal(ready_scene):
@@ -408,6 +435,59 @@ def test_circ_input_errors(ready_scene):
         ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("center", colinear)
     )
     assert result.message == "INVALID_MOTION_PLAN: CIRC: start, goal and center are colinear, the circle's plane is undefined"
+
+
+@pytest.mark.parametrize("off, planned", [(2e-5, False), (1e-6, False), (6e-5, True)])
+def test_circ_interim_colinear_as_pilz(ready_scene, off, planned):
+    """Pilz's colinearity test of an interim point is absolute: |(interim - start) x (goal -
+    start)| below 1e-5 m^2 fails. Here 0.2 m x 0.1 m apart and `off` out of line, the cross
+    product is 0.2 * off: 4e-6 and 2e-7 fail (the circles would be 100s of metres wide), 1.2e-5
+    plans."""
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1 = T0.copy()
+    T1[:3, 3] += [0.0, 0.2, 0.0]
+    interim = T0[:3, 3] + [0.0, 0.1, off]
+    result, _ = _pilz("CIRC").plan_to_pose(
+        ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, _circ_constraints("interim", interim))
+    if planned:
+        assert result, result.message
+    else:
+        assert result.message == "INVALID_MOTION_PLAN: CIRC: start, interim and goal points are colinear, the circle is undefined"
+
+
+def _circ_link_constraints(link, point):
+    constraints = _circ_constraints("center", point)
+    constraints.position_constraints[0].link_name = link
+    return constraints
+
+
+def test_circ_to_a_joint_goal_moves_the_link_its_point_names(ready_scene):
+    """As Pilz: with a joint goal, the link on the arc is the link_name of the interim or centre
+    point's position constraint. Joint 1 alone turns every link about the z axis, so with the
+    centre on that axis at the link's height the link's arc is level; another link put on that
+    arc (the old flange-only CIRC) would tilt it."""
+    goal = _goal(ready_scene, panda_joint1=0.6)
+    # turning joint 1 moves every link on a circle about the z axis
+    center = np.zeros(3)
+    for link in ("panda_link8", "panda_hand_tcp"):
+        p0 = ready_scene.current_state.get_global_link_transform(link)[:3, 3]
+        result, traj = _pilz("CIRC").plan(
+            ready_scene, goal, ARM, 1.0, _circ_link_constraints(link, [0.0, 0.0, p0[2]]))
+        assert result, result.message
+        P = _tip_positions(traj, link)
+        radius = np.linalg.norm(p0[:2] - center[:2])
+        assert np.allclose(np.linalg.norm(P[:, :2], axis=1), radius, atol=1e-5)
+        assert np.allclose(P[:, 2], p0[2], atol=1e-5)
+        assert np.allclose(P[-1], goal.current_state.get_global_link_transform(link)[:3, 3], atol=1e-5)
+
+
+@pytest.mark.parametrize("link", ["", "no_such_link"])
+def test_circ_to_a_joint_goal_needs_a_known_link(ready_scene, link):
+    """As Pilz: a joint goal's CIRC fails with INVALID_LINK_NAME when its point names no link."""
+    result, traj = _pilz("CIRC").plan(
+        ready_scene, _goal(ready_scene, panda_joint1=0.6), ARM, 1.0, _circ_link_constraints(link, [0.0, 0.0, 0.5]))
+    assert not result and traj is None
+    assert result.message.startswith(f"INVALID_LINK_NAME: Unknown link name of CIRC auxiliary point: '{link}'")
 
 
 def test_a_target_or_circ_point_that_is_not_finite_is_refused(ready_scene):

@@ -19,7 +19,11 @@
   the position of the first primitive pose of the first position constraint's
   ``constraint_region``, in that constraint's ``header.frame_id`` (empty: planning frame). With
   ``"center"`` the shorter arc is taken. These constraints only describe the arc; they are not
-  checked as path constraints.
+  checked as path constraints. To a joint goal, the link on the arc is that constraint's
+  ``link_name`` (as Pilz).
+
+Scaling factors outside Pilz's range (0.0001, 1] fail the request (``INVALID_MOTION_PLAN``), as
+in MoveIt's Pilz; 0 does too (MoveIt's time parameterization reads it as 1.0, Pilz does not).
 
 Every waypoint is checked for collisions (for the group) and against path constraints (PTP,
 LIN); the first failing one ends planning with a message saying which waypoint and which
@@ -62,7 +66,12 @@ DEFAULT_PLANNER = "PTP"
 
 _GOAL_REACHED = 1e-3  # [rad] a PTP whose joints all move less than this is one point (as Pilz)
 _RADIUS_TOLERANCE = 1e-2  # [m] start and goal distance to a CIRC centre may differ this much (as Pilz)
-_COLINEAR = 1e-6
+#: Pilz's test of a degenerate CIRC (``MAX_COLINEAR_NORM``): an interim point fails when
+#: ``|(interim - start) x (goal - start)|`` is below it [m^2]; a centre, when start and goal
+#: are closer to it than this [m] or the sine of the angle between them is below it.
+_COLINEAR = 1e-5
+#: Pilz takes scaling factors in (MIN_SCALING_FACTOR, 1] only (0 included in what it refuses).
+MIN_SCALING_FACTOR = 1e-4
 
 
 @dataclass
@@ -95,6 +104,16 @@ class CartesianLimits:
 
 def _rotation(axis: np.ndarray, angle: float) -> np.ndarray:
     return pin.exp3(np.asarray(axis, dtype=float) * angle)
+
+
+def _scaling_failure(vs: float, acs: float) -> str | None:
+    """Pilz's check of a request's scaling factors (already numbers in [0, 1]): the message of
+    the first one outside (MIN_SCALING_FACTOR, 1], else None."""
+    for what, value in (("Velocity", vs), ("Acceleration", acs)):
+        if not MIN_SCALING_FACTOR < float(value) <= 1.0:
+            return error_message("INVALID_MOTION_PLAN", f"{what} scaling not in range [{MIN_SCALING_FACTOR:g}, 1], "
+                                 f"actual value is: {float(value):g}")
+    return None
 
 
 def _outside_bounds(model, jmg, q) -> list[str]:
@@ -164,9 +183,11 @@ class PilzPipeline:
         group's end-effector tip has in ``goal``."""
         planner_id = self._check_planner(planner_id)
         jmg = self.robot_model.get_joint_model_group(group)
-        max_velocity_scaling_factor = check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
-        max_acceleration_scaling_factor = check_scaling_factor(
-            "max_acceleration_scaling_factor", max_acceleration_scaling_factor)
+        check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
+        check_scaling_factor("max_acceleration_scaling_factor", max_acceleration_scaling_factor)
+        refused = _scaling_failure(max_velocity_scaling_factor, max_acceleration_scaling_factor)
+        if refused:
+            return PlannerResult(False, refused), None
         outside = _outside_bounds(self.robot_model, jmg, goal.positions)
         if outside:  # as Pilz, for every planner
             return PlannerResult(False, error_message(
@@ -177,13 +198,25 @@ class PilzPipeline:
                                   max_acceleration_scaling_factor),
                 start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor,
             )
-        tips = jmg.ik_tips
-        if len(tips) != 1:
-            return PlannerResult(False, error_message(
-                "INVALID_GROUP_NAME", f"{planner_id} needs a group with one end-effector tip; "
-                f"group '{jmg.name}' has {', '.join(tips) or 'none'}")), None
-        target = goal.get_global_link_transform(tips[0])
-        return self.plan_pose(scene, start, tips[0], np.eye(4), target, group, planner_id, timeout,
+        if planner_id == "CIRC":
+            # as Pilz: the link on the arc is the one the interim or centre point names
+            try:
+                link = self._circ_point(scene, path_constraints)[0].link_name
+            except _Failure as failure:
+                return PlannerResult(False, failure.message), None
+            if not link or not self.robot_model.has_link_model(link):
+                return PlannerResult(False, error_message(
+                    "INVALID_LINK_NAME", f"Unknown link name of CIRC auxiliary point: '{link}' (the link_name of the "
+                    f"position constraint in path_constraints, the link that moves on the arc)")), None
+        else:
+            tips = jmg.ik_tips
+            if len(tips) != 1:
+                return PlannerResult(False, error_message(
+                    "INVALID_GROUP_NAME", f"{planner_id} needs a group with one end-effector tip; "
+                    f"group '{jmg.name}' has {', '.join(tips) or 'none'}")), None
+            link = tips[0]
+        target = goal.get_global_link_transform(link)
+        return self.plan_pose(scene, start, link, np.eye(4), target, group, planner_id, timeout,
                               max_velocity_scaling_factor, max_acceleration_scaling_factor, path_constraints)
 
     def plan_pose(
@@ -207,6 +240,9 @@ class PilzPipeline:
         deadline = time.perf_counter() + (timeout if math.isfinite(timeout) else 1e9)
         vs = check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
         acs = check_scaling_factor("max_acceleration_scaling_factor", max_acceleration_scaling_factor)
+        refused = _scaling_failure(max_velocity_scaling_factor, max_acceleration_scaling_factor)
+        if refused:
+            return PlannerResult(False, refused), None
         target = np.asarray(target, dtype=float)
         offset = np.asarray(offset, dtype=float)
         if planner_id == "PTP":
@@ -359,8 +395,10 @@ class PilzPipeline:
         return PlannerResult(True, ""), self._trajectory(start, jmg, Q, times, V, A)
 
     # ------------------------------------------------------------------ LIN, CIRC
-    def _arc(self, scene, path_constraints, p0, p1):
-        """The CIRC circle: (centre, axis, radius, angle) of the arc from p0 to p1."""
+    @staticmethod
+    def _circ_point(scene, path_constraints):
+        """(position constraint, point in the planning frame, kind) of a CIRC request's interim or
+        centre point."""
         pc = path_constraints
         # (Pilz's request checks of CIRC: each fails with INVALID_MOTION_PLAN)
         if pc is None or pc.name not in ("interim", "center"):
@@ -389,7 +427,12 @@ class PilzPipeline:
         if not np.all(np.isfinite(point)):
             raise _Failure(error_message(
                 "INVALID_MOTION_PLAN", f"CIRC {pc.name} point: its position must be finite, got {point.tolist()}"))
-        if pc.name == "center":
+        return constraint, point, pc.name
+
+    def _arc(self, scene, path_constraints, p0, p1):
+        """The CIRC circle: (centre, axis, radius, angle) of the arc from p0 to p1."""
+        _, point, kind = self._circ_point(scene, path_constraints)
+        if kind == "center":
             r0, r1 = p0 - point, p1 - point
             radius0, radius1 = float(np.linalg.norm(r0)), float(np.linalg.norm(r1))
             if abs(radius0 - radius1) > _RADIUS_TOLERANCE:
@@ -399,7 +442,7 @@ class PilzPipeline:
                     f"at most {_RADIUS_TOLERANCE} m apart): a circle cannot be created",
                 ))
             normal = np.cross(r0, r1)
-            if radius0 < _COLINEAR or np.linalg.norm(normal) < _COLINEAR * radius0 * radius1:
+            if radius0 < _COLINEAR or radius1 < _COLINEAR or np.linalg.norm(normal) < _COLINEAR * radius0 * radius1:
                 raise _Failure(error_message(
                     "INVALID_MOTION_PLAN", "CIRC: start, goal and center are colinear, the circle's plane is undefined"))
             axis = normal / np.linalg.norm(normal)
@@ -408,7 +451,7 @@ class PilzPipeline:
         u, v = point - p0, p1 - p0
         w = np.cross(u, v)
         ww = float(w @ w)
-        if ww < (_COLINEAR * max(float(u @ u), float(v @ v), 1e-12)) ** 2 or ww < 1e-18:
+        if ww < _COLINEAR**2:
             raise _Failure(error_message(
                 "INVALID_MOTION_PLAN", "CIRC: start, interim and goal points are colinear, the circle is undefined"))
         center = p0 + (float(u @ u) * np.cross(v, w) + float(v @ v) * np.cross(w, u)) / (2.0 * ww)
