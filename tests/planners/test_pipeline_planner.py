@@ -80,12 +80,13 @@ def test_unknown_planner_id_fails_at_init(panda):
 
 
 def test_unknown_planner_set_after_init_is_a_failure(panda, ready_scene):
-    """A planner id changed to an unknown one after init() fails the request with the same message."""
+    """A planner id changed to an unknown one after init() fails the request with the same message,
+    after PLANNING_FAILED (as Pilz's "No ContextLoader for planner_id" failure)."""
     planner = PipelinePlanner("pilz_industrial_motion_planner")
     planner.init(panda)
     planner.planner = "SPLINE"
     result, traj = planner.plan(ready_scene, ready_scene.diff(), "panda_arm", 1.0)
-    assert not result and result.message.startswith("unknown planner 'SPLINE'") and traj is None
+    assert not result and result.message.startswith("PLANNING_FAILED: unknown planner 'SPLINE'") and traj is None
 
 
 def test_init_needs_a_robot_model():

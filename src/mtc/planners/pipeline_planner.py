@@ -21,7 +21,7 @@ import numpy as np
 
 from mtc import msgs
 from mtc.core.properties import non_negative, unsigned_int
-from mtc.planners.planner_interface import PlannerInterface, PlannerResult, pose_argument
+from mtc.planners.planner_interface import PlannerInterface, PlannerResult, error_message, pose_argument
 from mtc.planners.time_parameterization import slow_to_cartesian_speed
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_model import RobotModel
@@ -141,14 +141,16 @@ class PipelinePlanner(PlannerInterface):
         return planner or module.DEFAULT_PLANNER
 
     def _ready(self, scene: PlanningScene) -> str | None:
-        """Initialize on first use and re-check the planner id; an error message or None."""
+        """Initialize on first use and re-check the planner id; an error message (after an
+        error-code name, as every failure of the pipelines) or None."""
         try:
             if self._pipeline is None or self._robot_model is not scene.robot_model:
                 self.init(scene.robot_model)
             else:
                 self._check_planner_id(_pipeline_module(self._pipeline_id))
         except ValueError as e:
-            return str(e)
+            # as Pilz's "No ContextLoader for planner_id ...": the request fails, it does not raise
+            return error_message("PLANNING_FAILED", str(e))
         return None
 
     def plan(
