@@ -196,6 +196,21 @@ def test_pose_goal_respects_path_constraints(ready_scene):
     assert 1.5 - 1e-9 <= traj[-1].joint_positions["panda_joint7"] <= 2.5 + 1e-9
 
 
+def test_pose_goal_with_path_constraints_it_cannot_evaluate_fails(ready_scene):
+    """A path constraint on an unknown link fails the pose goal, naming it (porting.md: MoveIt's
+    constraint set would keep it unconfigured, and MTC would plan as if it were not there)."""
+    target = ready_scene.current_state.get_global_link_transform("panda_link8")
+    target[2, 3] -= 0.05
+    bad = msgs.Constraints(
+        orientation_constraints=[msgs.OrientationConstraint(link_name="nowhere", orientation=msgs.Quaternion(w=1.0))]
+    )
+    result, traj = JointInterpolationPlanner().plan_to_pose(
+        ready_scene, "panda_link8", np.eye(4), target, "panda_arm", 1.0, bad
+    )
+    assert not result and traj is None
+    assert result.message.startswith("Invalid path constraints: ") and "'nowhere'" in result.message
+
+
 def test_cartesian_speed_limit_without_a_link_limits_the_end_effector_tip(ready_scene):
     """max_cartesian_speed alone limits the group's end-effector tip (panda_link8), as MoveIt's
     limitMaxCartesianLinkSpeed does for an empty link name; planning does not raise."""
