@@ -396,7 +396,7 @@ def test_init_error_texts(t):
     assert str(info.value) == (
         "Error initializing stage:\n"
         "task pipeline: cannot connect end interface of 'GEN1' (→) to start interface of 'GEN2' (←)"
-        ". To fix: both produce states; put a Connect between 'GEN1' and 'GEN2' to plan the motion between them"
+        ". To fix: both produce states; put a Connect between 'GEN1' and 'GEN2' to plan the motion between them\n"
     )
 
 

@@ -157,7 +157,7 @@ def test_unknown_eef_and_group_are_two_init_errors(make_task):
     task, _ = _ik_task(make_task, _pose(z=0.1), eef="claw", group="legs")
     with pytest.raises(core.InitStageError) as e:
         task.init()
-    assert str(e.value).endswith("compute IK: Unknown end effector: claw\ncompute IK: Unknown group: legs")
+    assert str(e.value).endswith("compute IK: Unknown end effector: claw\ncompute IK: Unknown group: legs\n")
 
 
 def test_seed_compute_ik(make_task):

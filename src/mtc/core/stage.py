@@ -137,7 +137,8 @@ class InitStageError(RuntimeError):
     """Configuration errors of a stage tree, collected over the whole tree.
 
     ``str()`` is MTC's text: ``Error initializing stage[s]:`` and one
-    ``<stage name>: <message>`` line per problem.
+    ``<stage name>: <message>`` line per problem, each line ending in a newline (MTC's Python
+    message is what its ``operator<<`` prints).
 
     Args:
         stage: The failing stage (optional).
@@ -180,7 +181,7 @@ class InitStageError(RuntimeError):
         lines = ["Error initializing stage" + ("s" if len(self.errors) > 1 else "") + ":"]
         for stage, msg in self.errors:
             lines.append(f"{getattr(stage, 'name', stage)}: {msg}")
-        return "\n".join(lines)
+        return "".join(line + "\n" for line in lines)
 
 
 class PreemptStageError(Exception):
