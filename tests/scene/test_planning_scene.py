@@ -208,15 +208,28 @@ def test_group_restriction_ignores_links_the_group_does_not_move(scene):
         assert scene.distance_to_collision(group=group) > 0
 
 
-@pytest.mark.parametrize("group", [None, "panda_arm_hand", "hand", "panda_arm"])
+@pytest.mark.parametrize("group", [None, "panda_arm_hand", "panda_arm"])
 def test_box_touching_only_the_hand_collides_for_groups_that_move_it(scene, group):
-    """A box touching only panda_hand collides for every group that moves the hand (hand, arm, both)."""
+    """A box touching only panda_hand collides for every group that moves the hand (the arm, arm
+    and hand together)."""
     scene.apply_collision_object(box("b", HAND_ONLY_XYZ, (0.02, 0.02, 0.02)))
     assert scene.get_collisions() == [("panda_hand", "b")]
     assert scene.is_state_colliding(group=group)
     assert scene.get_collisions(group=group) == [("panda_hand", "b")]
     assert scene.distance_to_collision(group=group) < 0
     assert not scene.check_states(scene.current_state.positions[None], group=group)[0]
+
+
+def test_the_hand_group_moves_only_the_fingers(scene):
+    """As MoveIt, a group's check covers the links below its active joints: the hand group's
+    finger joints do not move the palm (it hangs on a fixed joint above them), so a box touching
+    only panda_hand does not collide for 'hand', as in MoveIt (an open/close-gripper MoveTo with
+    the palm on an object plans)."""
+    scene.apply_collision_object(box("b", HAND_ONLY_XYZ, (0.02, 0.02, 0.02)))
+    assert not scene.is_state_colliding(group="hand")
+    assert scene.get_collisions(group="hand") == []
+    assert scene.distance_to_collision(group="hand") > 0
+    assert scene.check_states(scene.current_state.positions[None], group="hand")[0]
 
 
 def test_unknown_group_in_checks(scene):
@@ -590,12 +603,19 @@ def test_attached_object_collides_with_the_world_not_its_touch_links(scene):
     assert not scene.is_state_colliding()
 
 
-def test_attached_object_collides_with_a_world_object_for_the_hand_group(scene):
-    """An object held by panda_hand moves with the hand group, so its world collisions count for 'hand'."""
+def test_attached_object_counts_for_the_groups_that_move_its_link(scene):
+    """An object held by panda_hand moves with the arm, so its world collisions count for the arm
+    groups; the hand group does not move panda_hand, so not for 'hand' (as MoveIt's FCL check
+    skips attached bodies whose link the group does not move), but an object held by a finger
+    does."""
     held_scene(scene)
     scene.attach_object("obj", "panda_hand", touch_links=FINGERS)
     scene.apply_collision_object(box("plate", PLATE["xyz"], PLATE["size"]))
-    assert scene.is_state_colliding(group="hand")
+    assert scene.is_state_colliding(group="panda_arm") and scene.is_state_colliding(group="panda_arm_hand")
+    assert not scene.is_state_colliding(group="hand")
+    scene.detach_object("obj")
+    scene.attach_object("obj", "panda_leftfinger", touch_links=[*FINGERS, "panda_hand"])
+    assert scene.get_collisions(group="hand") == [("obj", "plate")] or scene.get_collisions(group="hand") == [("plate", "obj")]
 
 
 def test_attach_link_is_always_a_touch_link(scene):
@@ -616,7 +636,8 @@ def test_attached_object_collides_with_links_that_are_not_touch_links(scene):
     assert scene.get_collisions() == [("panda_link3", "b"), ("panda_link4", "b")]
     scene.attach_object("b", "panda_hand")
     assert scene.get_collisions() == [("panda_link3", "b"), ("panda_link4", "b")]
-    assert scene.is_state_colliding(group="hand")  # the object moves with the hand
+    assert scene.is_state_colliding(group="panda_arm")  # the object moves with the arm
+    assert not scene.is_state_colliding(group="hand")  # ... but not with the fingers (as MoveIt)
     scene.detach_object("b")
     scene.attach_object("b", "panda_hand", touch_links=["panda_link3", "panda_link4"])
     assert scene.get_collisions() == []
@@ -629,7 +650,7 @@ def test_attached_objects_collide_with_each_other(scene):
     scene.attach_object("c", "panda_link0")
     scene.attach_object("d", "panda_hand_tcp")  # a frame without geometry of its own
     assert scene.get_collisions() == [("c", "d")]
-    assert scene.is_state_colliding(group="hand")
+    assert scene.is_state_colliding(group="panda_arm")
     np.testing.assert_allclose(translation(scene.get_frame_transform("d")), [0.307, 0.0, 0.45], atol=1e-12)
     scene.current_state.joint_positions = {"panda_joint1": 0.5}  # d moves with the arm, c stays
     assert not scene.is_state_colliding()

@@ -57,6 +57,11 @@ def test_panda_groups(panda):
     assert "panda_finger_joint2" in hand.joint_model_names  # the mimic follower moves with it
     assert set(hand.link_model_names) == {"panda_hand", "panda_hand_tcp", "panda_leftfinger", "panda_rightfinger"}
     assert not hand.is_chain
+    # as MoveIt's updated links: below the active joints (and their mimic followers) only; the
+    # palm hangs on the fixed panda_hand_joint above the fingers
+    assert hand.updated_link_names == ["panda_leftfinger", "panda_rightfinger"]
+    assert arm.updated_link_names == [f"panda_link{i}" for i in range(1, 9)] + [
+        "panda_hand", "panda_hand_tcp", "panda_leftfinger", "panda_rightfinger"]
 
     both = panda.get_joint_model_group("panda_arm_hand")
     assert both.variable_names == [*ARM_JOINTS, "panda_finger_joint1"]

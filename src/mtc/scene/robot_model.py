@@ -158,8 +158,9 @@ class JointModelGroup:
         variable_names: active (non-mimic, non-passive) variables in model order; what
             ``set_joint_group_positions`` takes.
         variable_indices: their indices into a full state vector.
-        updated_link_names: every link whose pose moves with the group's variables (the
-            links a group-restricted collision check looks at).
+        updated_link_names: every link whose pose moves with the group's variables: the
+            links below its active joints and their mimic followers, as MoveIt's updated links
+            (the links a group-restricted collision check looks at).
         end_effector_tips: parent links of the end effectors attached to the group (as
             MoveIt's ``getEndEffectorTips``: every end effector whose parent link is in the
             group, its own group aside); the default IK link of stages without ``ik_frame``.
@@ -618,10 +619,15 @@ class RobotModel:
         # the SRDF gave them; its tip is the last joint's child link (a chain element's tip link)
         is_chain = bool(active) and all(self._is_above(a, b) for a, b in zip(joints, joints[1:]))
         chain_tip = self._joints[joints[-1]].child if is_chain else ""
-        # as MoveIt's updated links: everything below the group's joints, fixed ones included
+        # as MoveIt's updated links: everything below the group's moving joints (its active
+        # joints and their mimic followers); a fixed joint of the group moves nothing by itself,
+        # so the hand group's palm, above its finger joints, is not among them
+        followers = {self.variable_names[f] for f, master, *_ in self.mimic_followers
+                     if self.variable_names[master] in active}
         updated = []
         for name in joints:
-            updated.extend(self._subtree_links(self._joints[name].child))
+            if name in self._active_names or name in followers:
+                updated.extend(self._subtree_links(self._joints[name].child))
         updated = sorted(dict.fromkeys(updated), key=lambda n: self._links.index(n))
         return JointModelGroup(
             name=spec.name,
