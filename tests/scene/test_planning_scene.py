@@ -232,6 +232,30 @@ def test_the_hand_group_moves_only_the_fingers(scene):
     assert scene.check_states(scene.current_state.positions[None], group="hand")[0]
 
 
+def test_removing_an_object_drops_its_collision_matrix_pairs(scene):
+    """As MoveIt 2 (moveit2 #3183): REMOVE, and removing all objects, drop the object's pair
+    entries in the ACM, so an object added again under that id collides as a new one; its
+    default entry and other objects' entries stay."""
+    acm = scene.allowed_collision_matrix
+    for operation_removes_all in (False, True):
+        scene.apply_collision_object(box("b", HAND_ONLY_XYZ, (0.02, 0.02, 0.02)))
+        scene.apply_collision_object(box("far", (2.0, 2.0, 2.0), (0.02, 0.02, 0.02)))
+        acm.set_entry("b", "panda_hand", True)
+        acm.set_entry("far", "panda_hand", True)
+        acm.set_default_entry("b", False)
+        assert not scene.is_state_colliding()
+        if operation_removes_all:
+            scene.remove_all_collision_objects()
+        else:
+            scene.apply_collision_object(msgs.CollisionObject(id="b", operation=msgs.CollisionObject.REMOVE))
+        assert not acm.has_entry("b", "panda_hand")
+        assert acm.has_entry("far", "panda_hand") != operation_removes_all
+        assert "b" in acm.entry_names  # its default entry
+        scene.apply_collision_object(box("b", HAND_ONLY_XYZ, (0.02, 0.02, 0.02)))
+        assert scene.get_collisions() == [("panda_hand", "b")]
+        scene.remove_all_collision_objects()
+
+
 def test_unknown_group_in_checks(scene):
     """Collision queries with an unknown group name it and the groups."""
     for call in (scene.is_state_colliding, scene.get_collisions, scene.distance_to_collision, scene.state_validity_checker):

@@ -94,6 +94,16 @@ class AllowedCollisionMatrix:
             self._entries.pop(frozenset((first, second)), None)
         self._changed()
 
+    def forget_pairs(self, names) -> None:
+        """Drop every explicit pair entry of ``names`` (their default entries stay): what MoveIt
+        does for a collision object it removes from the world."""
+        names = set(names)
+        stale = [k for k in self._entries if k & names]
+        if stale:
+            for key in stale:
+                del self._entries[key]
+            self._changed()
+
     def get_entry(self, first: str, second: str) -> bool:
         """Whether ``first`` and ``second`` may collide (explicit entry, else defaults)."""
         entry = self._entries.get(frozenset((first, second)))

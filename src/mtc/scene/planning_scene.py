@@ -1012,13 +1012,10 @@ class PlanningScene:
         op = msg.operation
         if op == msgs.CollisionObject.REMOVE:
             if not msg.id:
-                for name in self._world:
-                    self._colors.pop(name, None)
-                self._own_world().clear()
+                self.remove_all_collision_objects()
                 return
             self.get_world_object(msg.id)
-            del self._own_world()[msg.id]
-            self._colors.pop(msg.id, None)  # as MoveIt: a removed object's colour goes with it
+            self._forget_objects([msg.id])
             return
         _check_name(msg.id)
         base = self._frame_of_header(msg.header.frame_id, f"object '{msg.id}'")
@@ -1106,9 +1103,19 @@ class PlanningScene:
         return self._colors.get(object_id)
 
     def remove_all_collision_objects(self) -> None:
-        for name in self._world:
+        self._forget_objects(list(self._world))
+
+    def _forget_objects(self, names: list[str]) -> None:
+        """Remove world objects with their colours and, as MoveIt 2 does (moveit2 #3183), their
+        pair entries in the allowed collision matrix: an object added again under the same id
+        collides as a new one. An attached object of the same id keeps its entries."""
+        world = self._own_world()
+        for name in names:
+            del world[name]
             self._colors.pop(name, None)
-        self._own_world().clear()
+        gone = [n for n in names if n not in self._attached]
+        if gone:
+            self._acm.forget_pairs(gone)
 
     # ------------------------------------------------------------------ attaching
     def attach_object(self, name: str, link: str, touch_links=None, detach_posture=None) -> None:
