@@ -291,11 +291,14 @@ def test_checkers_agree_with_is_state_colliding(scene, panda):
         scene.check_states(np.zeros((3, 7)))
 
 
-def test_is_state_valid_checks_bounds_too(scene):
-    """is_state_valid: collision-free and inside the joint limits."""
+def test_is_state_valid_is_collision_free_as_moveit(scene):
+    """is_state_valid is MoveIt's isStateValid: collision-free; like it, it leaves the joint
+    bounds to satisfies_bounds."""
     assert scene.is_state_valid()
-    scene.current_state.joint_positions = {"panda_joint4": 0.0}
-    assert not scene.is_state_valid() and not scene.is_state_colliding()
+    scene.apply_collision_object(box("b", HAND_ONLY_XYZ, (0.02, 0.02, 0.02)))
+    assert not scene.is_state_valid() and not scene.is_state_valid(group="panda_arm")
+    scene.current_state.joint_positions = {"panda_joint4": 0.0}  # beyond the joint limit, off the box
+    assert scene.is_state_valid() and not scene.current_state.satisfies_bounds()
 
 
 def test_is_path_valid(scene, panda):
@@ -316,9 +319,9 @@ def test_is_path_valid(scene, panda):
     assert translation(end)[1] > 0.2
     scene.apply_collision_object(CollisionObject(id="b", operation=CollisionObject.REMOVE))
     assert scene.is_path_valid(traj)
-    bad = traj.copy()
-    bad[3].joint_positions = {"panda_joint4": 0.0}  # beyond the joint limit
-    assert not scene.is_path_valid(bad)
+    beyond = traj.copy()
+    beyond[3].joint_positions = {"panda_joint4": 0.0}  # beyond the joint limit: MoveIt checks collisions only
+    assert scene.is_path_valid(beyond, "panda_arm", True) and not beyond[3].satisfies_bounds()
 
 
 def test_robot_without_geometry(toy):

@@ -1333,10 +1333,11 @@ class PlanningScene:
 
     @moveit_py_keywords(robot_state="state", joint_model_group_name="group")
     def is_state_valid(self, state: RobotState | None = None, group: str | None = None, verbose: bool = False) -> bool:
-        """Collision-free and inside the joint bounds."""
+        """Collision-free (for ``group``'s links), as MoveIt's ``isStateValid``: like it, this
+        does not look at the joint bounds (:meth:`RobotState.satisfies_bounds` does)."""
         state, group = self._state_and_group(state, group)
         st = self._state if state is None else state
-        return st.satisfies_bounds(group) and not self.is_state_colliding(st, group, verbose)
+        return not self.is_state_colliding(st, group, verbose)
 
     @moveit_py_keywords(robot_state="state")
     def is_state_constrained(self, state: RobotState, constraints: msgs.Constraints, verbose: bool = False) -> bool:
@@ -1511,14 +1512,22 @@ class PlanningScene:
         return distances[0][0] if distances else float("inf")
 
     @moveit_py_keywords(joint_model_group_name="group")
-    def is_path_valid(self, trajectory, group: str | None = None) -> bool:
-        """Whether every waypoint of a trajectory is inside its bounds and collision-free."""
+    def is_path_valid(self, trajectory, group: str | None = None, verbose: bool = False) -> bool:
+        """Whether every waypoint of a trajectory is collision-free (for ``group``'s links), as
+        MoveIt's ``isPathValid``, which does not look at the joint bounds either.
+
+        Args:
+            verbose: log the first colliding waypoint and its contacts (logger
+                ``mtc.scene.planning_scene``, INFO).
+        """
         waypoints = getattr(trajectory, "waypoints", None)
         if waypoints is None:
             raise TypeError(f"is_path_valid takes a RobotTrajectory, not {type(trajectory).__name__}")
         is_valid = self.state_validity_checker(group)
-        for state in waypoints:
-            if not state.satisfies_bounds(group) or not is_valid(state._q):
+        for k, state in enumerate(waypoints):
+            if not is_valid(state._q):
+                if verbose:
+                    log.info("waypoint %d of %d is in collision: %s", k, len(waypoints), self.get_collisions(state, group))
                 return False
         return True
 
