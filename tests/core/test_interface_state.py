@@ -132,6 +132,8 @@ def test_interface_state_copy_and_properties():
     assert s.properties["target_pose"] == "p"
     with pytest.raises(TypeError):
         InterfaceState(None)
+    with pytest.raises(TypeError, match="InterfaceState needs a PlanningScene, got int"):
+        InterfaceState(5)  # misuse raises at the call (it planned, and failed only at execute())
 
 
 # --- solutions ---------------------------------------------------------------------------

@@ -269,9 +269,11 @@ def test_queries():
     assert objects["box"].primitives[0].dimensions == [0.1, 0.2, 0.3]
     assert objects["box"].header.frame_id == "world"
     assert list(psi.get_objects(["ball", "nothing"])) == ["ball"]
+    assert list(psi.get_objects(names=["ball"])) == ["ball"]  # api.md's keyword (moveit_commander's: object_ids)
     attached = psi.get_attached_objects()
     assert list(attached) == ["held"] and attached["held"].link_name == "panda_hand"
     assert psi.get_attached_objects(["box"]) == {}
+    assert list(psi.get_attached_objects(names=["held"])) == ["held"]
     poses = psi.get_object_poses(["box", "held", "nothing"])
     assert sorted(poses) == ["box"]  # world objects only, as MoveIt
     np.testing.assert_allclose(msgs.pose_to_matrix(poses["box"]), current_scene().get_frame_transform("box"), atol=1e-9)

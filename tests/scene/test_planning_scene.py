@@ -256,6 +256,18 @@ def test_removing_an_object_drops_its_collision_matrix_pairs(scene):
         scene.remove_all_collision_objects()
 
 
+def test_moveit_py_frame_forms(scene):
+    """knows_frame_transform(robot_state, frame_id) and the frame_id keyword, as moveit_py."""
+    state = scene.current_state
+    assert scene.knows_frame_transform(state, "panda_hand") and not scene.knows_frame_transform(state, "nope")
+    assert scene.knows_frame_transform(frame_id="panda_hand")
+    np.testing.assert_array_equal(scene.get_frame_transform(frame_id="panda_hand"), scene.get_frame_transform("panda_hand"))
+    with pytest.raises(TypeError, match="robot_state must be a RobotState"):
+        scene.knows_frame_transform("panda_hand", "panda_link0")
+    with pytest.raises(TypeError, match=r"takes \(frame_id\) or \(robot_state, frame_id\)"):
+        scene.knows_frame_transform()
+
+
 def test_unknown_group_in_checks(scene):
     """Collision queries with an unknown group name it and the groups."""
     for call in (scene.is_state_colliding, scene.get_collisions, scene.distance_to_collision, scene.state_validity_checker):

@@ -490,3 +490,25 @@ def test_interpolated_and_copied_states_see_attached_objects(panda):
     for s in (b, mid):
         rel = np.linalg.inv(s.get_frame_transform("panda_hand")) @ s.get_frame_transform("held")
         np.testing.assert_allclose(rel[:3, 3], [0.0, 0.0, 0.1], atol=1e-12)
+
+
+def test_moveit_py_keyword_forms(panda, state):
+    """moveit_py's keywords and overloads: update(type=...) with its three categories,
+    set_to_default_values / set_to_random_positions with joint_model_group(_name), and
+    get_jacobian(group, reference_point_position) for the group's last link."""
+    state.update(force=True, type="links_only")
+    with pytest.raises(ValueError, match="Invalid category 'links'"):
+        state.update(type="links")
+    state.set_to_default_values(joint_model_group_name="panda_arm", name="extended")
+    extended = state.get_joint_group_positions("panda_arm").copy()
+    state.set_to_default_values(joint_model_group=panda.get_joint_model_group("panda_arm"), name="ready")
+    assert not np.allclose(state.get_joint_group_positions("panda_arm"), extended)
+    before = state.positions.copy()
+    state.set_to_random_positions(joint_model_group=panda.get_joint_model_group("hand"))
+    assert np.array_equal(state.positions[:7], before[:7]) and state.satisfies_bounds()
+    point = np.array([0.0, 0.0, 0.1])
+    np.testing.assert_allclose(state.get_jacobian("panda_arm", point), state.get_jacobian("panda_arm", "panda_link8", point))
+    np.testing.assert_allclose(state.get_jacobian(joint_model_group_name="panda_arm", reference_point_position=point),
+                               state.get_jacobian("panda_arm", "panda_link8", point))
+    with pytest.raises(ValueError, match="use_quaternion_representation is not supported"):
+        state.get_jacobian("panda_arm", "panda_link8", point, True)

@@ -340,7 +340,7 @@ def test_set_robot_trajectory_msg_round_trip(panda, start):
     other = RobotTrajectory(panda, "panda_arm")
     reference = start.copy()
     reference.joint_positions = {"panda_finger_joint1": 0.01}
-    other.set_robot_trajectory_msg(reference, msg)
+    assert other.set_robot_trajectory_msg(reference, msg) is other  # as moveit_py's binding
     np.testing.assert_allclose(other.positions, traj.positions)
     np.testing.assert_allclose(other.times, traj.times)
     np.testing.assert_allclose(other.velocities, traj.velocities)

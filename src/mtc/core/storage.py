@@ -19,6 +19,7 @@ from typing import Any
 
 from mtc import msgs
 from mtc.core.properties import PropertyMap
+from mtc.scene.planning_scene import PlanningScene
 
 __all__ = [
     "Interface",
@@ -127,6 +128,8 @@ class InterfaceState:
             raise TypeError("InterfaceState needs a planning scene, got None")
         if isinstance(scene, InterfaceState):
             raise TypeError("InterfaceState(state): use state.copy() to copy an interface state")
+        if not isinstance(scene, PlanningScene):
+            raise TypeError(f"InterfaceState needs a PlanningScene, got {type(scene).__name__}")
         self._scene = scene
         self._properties = None
         self.incoming: list[SolutionBase] = []

@@ -14,6 +14,7 @@ import threading
 from collections.abc import Iterable
 
 from mtc import msgs
+from mtc.scene._moveit_py import moveit_py_keywords
 from mtc.scene.planning_scene import PlanningScene, mesh_file_to_msg
 from mtc.scene.robot_model import RobotModel
 
@@ -235,14 +236,16 @@ class PlanningSceneInterface:
         :meth:`get_attached_objects`). ``with_type`` is accepted; mtc's objects have no type."""
         return list(self.scene.world_object_names)
 
+    @moveit_py_keywords(names="object_ids")
     def get_objects(self, object_ids: Iterable[str] = ()) -> dict[str, msgs.CollisionObject]:
-        """World objects as messages (all, or those named)."""
+        """World objects as messages (all, or those named; ``names=`` as api.md writes it)."""
         scene = self.scene
         names = list(object_ids) or scene.world_object_names
         return {n: scene.get_collision_object_msg(n) for n in names if n in scene.world_object_names}
 
+    @moveit_py_keywords(names="object_ids")
     def get_attached_objects(self, object_ids: Iterable[str] = ()) -> dict[str, msgs.AttachedCollisionObject]:
-        """Attached objects as messages (all, or those named)."""
+        """Attached objects as messages (all, or those named; ``names=`` as api.md writes it)."""
         scene = self.scene
         names = list(object_ids) or scene.attached_object_names
         return {n: scene.get_attached_collision_object_msg(n) for n in names if n in scene.attached_object_names}

@@ -1245,6 +1245,7 @@ class PlanningScene:
     def _world_subframes(self, name: str):
         return self._world[name].subframe_poses
 
+    @moveit_py_keywords(frame_id="frame")
     def get_frame_transform(self, frame: str) -> np.ndarray:
         """4x4 pose in the planning frame of a link, a world or attached object, or an object's
         subframe (``"object/subframe"``).
@@ -1271,10 +1272,21 @@ class PlanningScene:
             f"objects: {', '.join(objects) or 'none'})"
         )
 
-    def knows_frame_transform(self, frame: str) -> bool:
+    @moveit_py_keywords(frame_id="frame")
+    def knows_frame_transform(self, *args, frame: str | None = None) -> bool:
         """Whether ``frame`` names a link, object or subframe (or the planning frame); an empty
         name is no frame, as in MoveIt (:meth:`get_frame_transform` reads it as the planning
-        frame, as headers do)."""
+        frame, as headers do). As moveit_py, also ``knows_frame_transform(robot_state, frame_id)``
+        (which frames exist does not depend on the state's values)."""
+        if len(args) == 2 and frame is None:
+            state, frame = args
+            if not isinstance(state, RobotState):
+                raise TypeError(f"knows_frame_transform(robot_state, frame_id): robot_state must be a RobotState, "
+                                f"not {type(state).__name__}")
+        elif len(args) == 1 and frame is None:
+            frame = args[0]
+        elif args or frame is None:
+            raise TypeError("knows_frame_transform takes (frame_id) or (robot_state, frame_id)")
         if plain_frame(frame) == "":  # (a TypeError for a non-str, as get_frame_transform's)
             return False
         try:

@@ -50,6 +50,10 @@ _PROCESS_RNG = np.random.default_rng(0)
 
 
 
+#: what moveit_py's ``RobotState.update(type=...)`` takes
+_UPDATE_CATEGORIES = ("all", "links_only", "collisions_only")
+
+
 def plain_frame(frame: str) -> str:
     """A frame name without leading "/"s (MoveIt drops them).
 
@@ -153,6 +157,7 @@ class RobotState:
         """The active variables of ``group`` as a new array."""
         return self._q[self._group(group).variable_indices].copy()
 
+    @moveit_py_keywords(joint_model_group_name="group", joint_model_group="group")
     def set_to_default_values(self, group: str | None = None, name: str | None = None) -> None:
         """Without arguments: every joint to its default (zero where the bounds allow it, else
         the middle of the bounds, as MoveIt). With a group and a named state of the SRDF: that
@@ -168,6 +173,7 @@ class RobotState:
             raise TypeError("set_to_default_values takes no arguments or both a group and a state name")
         self.set_variable_positions(self._model.get_group_state(group, name))
 
+    @moveit_py_keywords(joint_model_group="group", joint_model_group_name="group")
     def set_to_random_positions(self, group: str | None = None, rng=None) -> None:
         """Uniform random values inside the bounds for the group's (default: all) variables;
         continuous joints in [-pi, pi).
@@ -257,10 +263,18 @@ class RobotState:
         return self.copy()
 
     # ------------------------------------------------------------------ kinematics
+    @moveit_py_keywords(type="category")
     def update(self, force: bool = False, category: str = "all") -> None:
         """Accepted for moveit_py scripts (``robot_state.update()``, "required to update
         transforms" there): ``mtc`` computes transforms when they are asked for, so there is
-        nothing to do."""
+        nothing to do.
+
+        Raises:
+            ValueError: ``category`` (moveit_py's ``type``) is none of moveit_py's "all",
+                "links_only" and "collisions_only".
+        """
+        if category not in _UPDATE_CATEGORIES:
+            raise ValueError(f"Invalid category {category!r} (one of {', '.join(_UPDATE_CATEGORIES)})")
 
     def _ensure_fk(self) -> pin.Data:
         model = self._model
@@ -321,13 +335,31 @@ class RobotState:
         return msgs.matrix_to_pose(self.get_global_link_transform(link))
 
     @moveit_py_keywords(joint_model_group_name="group", link_name="link", reference_point_position="reference_point")
-    def get_jacobian(self, group: str, link: str, reference_point: np.ndarray | None = None) -> np.ndarray:
+    def get_jacobian(self, group: str, link=None, reference_point: np.ndarray | None = None,
+                     use_quaternion_representation: bool = False) -> np.ndarray:
         """6 x k Jacobian ``[linear; angular]`` of a point on ``link`` (default its origin), in
         the model frame's orientation, with respect to the group's active variables. A mimic
         joint's motion is credited to its master.
+
+        As moveit_py's two forms: ``get_jacobian(group, link, reference_point_position)`` and
+        ``get_jacobian(group, reference_point_position)``, the latter for the group's last link.
+
+        Raises:
+            ValueError: ``use_quaternion_representation`` (not supported: the angular rows are
+                angular velocities).
         """
         model = self._model
         jmg = self._group(group)
+        if use_quaternion_representation:
+            raise ValueError("get_jacobian: use_quaternion_representation is not supported (angular velocity rows only)")
+        if link is None or not isinstance(link, str):
+            if link is not None:
+                if reference_point is not None:
+                    raise TypeError("get_jacobian(group, reference_point_position) takes no third argument")
+                reference_point = link
+            if not jmg.link_model_names:
+                raise ValueError(f"group '{jmg.name}' has no links: name the link")
+            link = jmg.link_model_names[-1]
         fid = model.frame_id(link)
         pm = model.pinocchio_model
         data = self._ensure_fk()

@@ -353,7 +353,7 @@ class RobotTrajectory:
             )
         )
 
-    def set_robot_trajectory_msg(self, robot_state: RobotState, msg: msgs.RobotTrajectory) -> None:
+    def set_robot_trajectory_msg(self, robot_state: RobotState, msg: msgs.RobotTrajectory) -> RobotTrajectory:
         """Replace the waypoints with the points of ``msg`` (a ``msgs.RobotTrajectory``; its
         joint trajectory), each ``robot_state`` with the named joints set, at the points'
         ``time_from_start`` (moveit_py's ``set_robot_trajectory_msg``). Velocities and
@@ -391,6 +391,7 @@ class RobotTrajectory:
         self._set_rows(robot_state, cols, P, times)
         self.velocities = derivative("velocities")
         self.accelerations = derivative("accelerations")
+        return self  # (as moveit_py's binding)
 
     def __repr__(self) -> str:
         return (
