@@ -512,3 +512,21 @@ def test_moveit_py_keyword_forms(panda, state):
                                state.get_jacobian("panda_arm", "panda_link8", point))
     with pytest.raises(ValueError, match="use_quaternion_representation is not supported"):
         state.get_jacobian("panda_arm", "panda_link8", point, True)
+
+
+def test_group_positions_may_cover_mimic_joints(state):
+    """As moveit_py (MoveIt's variable count includes mimic joints), set_joint_group_positions
+    also takes values for the group's mimic followers, which then follow their master;
+    set_joint_group_active_positions takes the active ones only."""
+    state.set_joint_group_positions("hand", [0.02, 0.03])
+    assert state.joint_positions["panda_finger_joint1"] == state.joint_positions["panda_finger_joint2"] == 0.02
+    state.set_joint_group_positions("panda_arm_hand", [*np.linspace(0.0, 0.6, 7), 0.01, 0.01])
+    np.testing.assert_allclose(state.positions, [*np.linspace(0.0, 0.6, 7), 0.01, 0.01])
+    state.set_joint_group_active_positions("hand", [0.03])
+    assert state.positions[8] == 0.03
+    with pytest.raises(ValueError, match=r"got 3 values \(or 2 with its mimic joints: panda_finger_joint1, panda_finger_joint2\)"):
+        state.set_joint_group_positions("hand", [0.01, 0.01, 0.01])
+    with pytest.raises(ValueError, match="has 1 active variables"):
+        state.set_joint_group_active_positions("hand", [0.01, 0.01])
+    with pytest.raises(ValueError, match="has 7 variables"):
+        state.set_joint_group_positions("panda_arm", [0.0] * 8)

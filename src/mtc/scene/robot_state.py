@@ -135,22 +135,46 @@ class RobotState:
 
     @moveit_py_keywords(joint_model_group_name="group", position_values="values")
     def set_joint_group_positions(self, group: str, values) -> None:
-        """Set the active variables of ``group`` (in the group's order)."""
+        """Set the active variables of ``group`` (in the group's order). As moveit_py, the
+        values may also cover the group's mimic followers (MoveIt's variable count: the hand's
+        ``[0.035, 0.035]``); a follower's value is then overwritten from its master, as
+        MoveIt's ``updateMimicJoints`` does."""
         jmg = self._group(group)
+        values = self._group_values(jmg, values)
+        if values.size == jmg.variable_count:
+            indices = jmg.variable_indices
+        else:
+            model = self._model
+            names = [n for n in jmg.joint_model_names if n in model.variable_names]
+            if values.size != len(names):
+                with_mimic = f" (or {len(names)} with its mimic joints: {', '.join(names)})" if len(names) > jmg.variable_count else ""
+                raise ValueError(f"group '{jmg.name}' has {jmg.variable_count} variables "
+                                 f"({', '.join(jmg.variable_names)}), got {values.size} values{with_mimic}")
+            indices = [model.variable_index(n) for n in names]
+        q = self._q.copy()
+        q[indices] = values
+        self.positions = q
+
+    @moveit_py_keywords(joint_model_group_name="group", position_values="values")
+    def set_joint_group_active_positions(self, group: str, values) -> None:
+        """Set the active variables of ``group`` (moveit_py's name for the active-only form)."""
+        jmg = self._group(group)
+        values = self._group_values(jmg, values)
+        if values.size != jmg.variable_count:
+            raise ValueError(f"group '{jmg.name}' has {jmg.variable_count} active variables "
+                             f"({', '.join(jmg.variable_names)}), got {values.size} values")
+        q = self._q.copy()
+        q[jmg.variable_indices] = values
+        self.positions = q
+
+    @staticmethod
+    def _group_values(jmg: JointModelGroup, values) -> np.ndarray:
         try:
-            values = np.asarray(values, dtype=float).ravel()
+            return np.asarray(values, dtype=float).ravel()
         except (TypeError, ValueError):
             raise TypeError(
                 f"group '{jmg.name}' positions must be {jmg.variable_count} numbers, got {values!r}"
             ) from None
-        if values.size != jmg.variable_count:
-            raise ValueError(
-                f"group '{jmg.name}' has {jmg.variable_count} variables "
-                f"({', '.join(jmg.variable_names)}), got {values.size} values"
-            )
-        q = self._q.copy()
-        q[jmg.variable_indices] = values
-        self.positions = q
 
     @moveit_py_keywords(joint_model_group_name="group")
     def get_joint_group_positions(self, group: str) -> np.ndarray:
