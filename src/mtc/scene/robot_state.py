@@ -49,7 +49,6 @@ def _checked_positions(model: RobotModel, values) -> np.ndarray:
 _PROCESS_RNG = np.random.default_rng(0)
 
 
-
 #: what moveit_py's ``RobotState.update(type=...)`` takes
 _UPDATE_CATEGORIES = ("all", "links_only", "collisions_only")
 
@@ -163,9 +162,7 @@ class RobotState:
         if values.size != jmg.variable_count:
             raise ValueError(f"group '{jmg.name}' has {jmg.variable_count} active variables "
                              f"({', '.join(jmg.variable_names)}), got {values.size} values")
-        q = self._q.copy()
-        q[jmg.variable_indices] = values
-        self.positions = q
+        self.set_joint_group_positions(jmg, values)
 
     @staticmethod
     def _group_values(jmg: JointModelGroup, values) -> np.ndarray:
