@@ -530,3 +530,16 @@ def test_group_positions_may_cover_mimic_joints(state):
         state.set_joint_group_active_positions("hand", [0.01, 0.01])
     with pytest.raises(ValueError, match="has 7 variables"):
         state.set_joint_group_positions("panda_arm", [0.0] * 8)
+
+
+def test_enforce_bounds_wraps_continuous_joints(toy):
+    """As MoveIt's enforcePositionBounds: a continuous joint (all of the toy's) is wrapped into
+    (-pi, pi], pi staying pi (the Panda's bounded joints are clipped: see above)."""
+    assert toy.continuous_mask.all()
+    for value, wrapped in ((4.0, 4.0 - 2 * np.pi), (-7.0, -7.0 + 2 * np.pi), (np.pi, np.pi), (-np.pi, np.pi), (1.0, 1.0)):
+        state = RobotState(toy, np.full(toy.variable_count, value))
+        state.enforce_bounds()
+        np.testing.assert_allclose(state.positions, wrapped, atol=1e-12)
+        state = RobotState(toy, np.full(toy.variable_count, value))
+        state.enforce_bounds("group")  # only the group's joints
+        assert state.positions[0] == pytest.approx(wrapped, abs=1e-12) and state.positions[-1] == value

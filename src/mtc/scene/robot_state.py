@@ -12,7 +12,7 @@ import pinocchio as pin
 
 from mtc import msgs
 from mtc.scene._moveit_py import moveit_py_keywords
-from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta
+from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta, wrap_angle
 
 __all__ = ["RobotState", "as_rng"]
 
@@ -223,10 +223,15 @@ class RobotState:
         )
 
     def enforce_bounds(self, group: str | None = None) -> None:
-        """Clip the group's (default: all) variables into their bounds."""
-        idx = self._group(group).variable_indices if group else slice(None)
+        """Clip the group's (default: all) variables into their bounds; continuous joints are
+        wrapped into (-pi, pi] instead, as MoveIt's ``enforcePositionBounds``."""
+        model = self._model
+        idx = self._group(group).variable_indices if group else np.arange(model.variable_count)
         q = self._q.copy()
-        q[idx] = np.clip(q[idx], self._model.lower_bounds[idx], self._model.upper_bounds[idx])
+        q[idx] = np.clip(q[idx], model.lower_bounds[idx], model.upper_bounds[idx])
+        turning = idx[model.continuous_mask[idx]]
+        if turning.size:
+            q[turning] = -wrap_angle(-self._q[turning])  # (-pi, pi]: pi stays pi
         self.positions = q
 
     def distance(self, other: RobotState, group: str | None = None) -> float:
