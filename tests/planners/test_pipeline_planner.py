@@ -221,3 +221,20 @@ def test_unknown_cartesian_speed_limited_link_fails_the_plan(panda, ready_scene,
     planner.setCartesianSpeedLimitedLink("panda_hand")
     result, traj = planner.plan(ready_scene, goal, ARM, 1.0)
     assert result and traj.duration > 0
+
+
+def test_pose_goal_out_of_reach_with_a_tolerance_region_in_reach(ready_scene):
+    """As MoveIt's goal sampler, which draws targets in the whole tolerance region: a target 3 cm
+    beyond the hand's reach plans with a 5 cm goal_position_tolerance (ending within it), and
+    fails NO_IK_SOLUTION with the default 0.1 mm."""
+    T = ready_scene.current_state.get_global_link_transform("panda_hand")
+    T[:3, 3] = [0.83, 0.0, 0.3]  # hand down at z = 0.3: the Panda reaches x = 0.80
+    planner = PipelinePlanner("ompl")
+    result, _ = planner.plan_to_pose(ready_scene, "panda_hand", np.eye(4), T, "panda_arm", 1.0)
+    assert not result and result.message.startswith("NO_IK_SOLUTION")
+    planner.goal_position_tolerance = 0.05
+    result, traj = planner.plan_to_pose(ready_scene, "panda_hand", np.eye(4), T, "panda_arm", 1.0)
+    assert result, result.message
+    reached = traj[-1].get_global_link_transform("panda_hand")
+    assert np.linalg.norm(reached[:3, 3] - T[:3, 3]) <= 0.05 + 1e-9
+    assert msgs.rotation_angle(T[:3, :3].T @ reached[:3, :3]) <= 1e-4 + 1e-9

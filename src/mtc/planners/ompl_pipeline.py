@@ -164,6 +164,9 @@ POSE_GOAL_IK_ATTEMPTS = 200
 #: States drawn within the tolerance of an invalid joint goal (MoveIt's goal region) to find
 #: valid goals in its place.
 GOAL_REGION_SAMPLES = 200
+#: A pose goal whose tolerances are wider than this (MoveIt's defaults, 1e-4 m and rad) is
+#: also sampled within its region when IK finds no solution for the exact target at all.
+REGION_WIDER_THAN = 1e-4
 #: Further IK attempts for a first goal where those found none: the valid solutions of a
 #: hand deep in a narrow place can be rare (one MotionBenchMaker-like goal in front of a can
 #: on a cluttered table had none in its first 200 and one among the next 200).
@@ -1213,8 +1216,11 @@ class OMPLPipeline:
     def _prepare(self, scene, start, group, timeout, path_constraints):
         t0 = time.perf_counter()
         self.last_stats = PlanStats()
-        if timeout == 0:  # (as MoveIt's OMPL, which stops at once)
-            return None, self._fail(None, "TIMED_OUT: a timeout of 0 s leaves no time to plan")
+        if timeout == 0:
+            # as MoveIt's OMPL interface: "The timeout for planning must be positive (0 specified).
+            # Assuming one second instead."
+            log.info("OMPL pipeline: a timeout of 0 s; planning for 1 s instead, as MoveIt does")
+            timeout = 1.0
         if not math.isfinite(timeout):
             # an unbounded request (MTC's default timeout is infinite) still has to end when
             # the problem has no solution: MoveIt's default allowed_planning_time
@@ -1420,9 +1426,10 @@ class OMPLPipeline:
         if not goals and (rejected["invalid"] or rejected["bounds"]):
             # IK solutions, but none valid (a goal in a narrow place): one valid goal from more
             goals = sample(POSE_GOAL_IK_MORE_ATTEMPTS, 1)
-        if not goals and rejected["invalid"]:
+        if not goals and (rejected["invalid"] or max(pos_tol, rot_tol) > REGION_WIDER_THAN):
             # as MoveIt, whose pose goal is the region within the position and orientation
             # tolerances: poses drawn in it, one IK descent each, until one has a valid solution
+            # (also where the exact target is out of reach but part of a wider region is not)
             for aim in _poses_within(link_target, pos_tol, rot_tol, GOAL_REGION_SAMPLES, rng):
                 goals = sample(1, 1, aim)
                 if goals or time.perf_counter() > req.deadline:
