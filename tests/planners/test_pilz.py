@@ -134,6 +134,31 @@ def test_the_smallest_scaling_pilz_takes_plans(ready_scene):
     assert traj.duration > 0.01 / (2.175 * 1.0001e-4) * 0.99
 
 
+def test_request_checks_in_moveits_order(ready_scene, add_box):
+    """As MoveIt's Pilz pipeline: its start-state collision check runs first (before Pilz's own
+    checks, so even bad scaling factors are reported after it), then Pilz's scaling factors,
+    then a start outside its joint limits (INVALID_ROBOT_STATE, naming the joints), for joint
+    and pose goals alike."""
+    goal = _goal(ready_scene, panda_joint1=0.3)
+    target = goal.current_state.get_global_link_transform("panda_link8")
+    blocked = ready_scene.diff()
+    add_box(blocked, "at_start", ready_scene.current_state.get_global_link_transform("panda_hand")[:3, 3])
+    outside = _goal(ready_scene, panda_joint4=0.1)  # joint 4's upper limit is -0.0698
+    for pid in ("PTP", "LIN"):
+        planner = _pilz(pid, 5e-5, 1.0)
+        result, _ = planner.plan(blocked, goal, ARM, 1.0)
+        assert result.message.startswith("START_STATE_IN_COLLISION: ") and "at_start" in result.message
+        result, _ = planner.plan_to_pose(blocked, "panda_link8", np.eye(4), target, ARM, 1.0)
+        assert result.message.startswith("START_STATE_IN_COLLISION: ")
+        result, _ = planner.plan(outside, goal, ARM, 1.0)
+        assert result.message.startswith("INVALID_MOTION_PLAN: Velocity scaling not in range")
+        result, traj = _pilz(pid).plan(outside, goal, ARM, 1.0)
+        assert result.message == "INVALID_ROBOT_STATE: start state joints outside their position limits: panda_joint4"
+        assert traj is None
+        result, _ = _pilz(pid).plan_to_pose(outside, "panda_link8", np.eye(4), target, ARM, 1.0)
+        assert result.message.startswith("INVALID_ROBOT_STATE: ")
+
+
 def test_ptp_pose_goal(ready_scene):
     """A pose goal is reached by IK first."""
     target = ready_scene.current_state.get_global_link_transform("panda_hand_tcp")

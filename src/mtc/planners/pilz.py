@@ -185,7 +185,7 @@ class PilzPipeline:
         jmg = self.robot_model.get_joint_model_group(group)
         check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
         check_scaling_factor("max_acceleration_scaling_factor", max_acceleration_scaling_factor)
-        refused = _scaling_failure(max_velocity_scaling_factor, max_acceleration_scaling_factor)
+        refused = self._refused(scene, start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor)
         if refused:
             return PlannerResult(False, refused), None
         outside = _outside_bounds(self.robot_model, jmg, goal.positions)
@@ -240,7 +240,7 @@ class PilzPipeline:
         deadline = time.perf_counter() + (timeout if math.isfinite(timeout) else 1e9)
         vs = check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
         acs = check_scaling_factor("max_acceleration_scaling_factor", max_acceleration_scaling_factor)
-        refused = _scaling_failure(max_velocity_scaling_factor, max_acceleration_scaling_factor)
+        refused = self._refused(scene, start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor)
         if refused:
             return PlannerResult(False, refused), None
         target = np.asarray(target, dtype=float)
@@ -273,6 +273,21 @@ class PilzPipeline:
                 f"unknown planner '{planner_id}' for pipeline '{PIPELINE_NAME}' (known: {', '.join(KNOWN_PLANNERS)})"
             )
         return planner_id
+
+    def _refused(self, scene, start: RobotState, jmg, vs: float, acs: float) -> str | None:
+        """The request checks that come before planning, in MoveIt's order: its pipeline's
+        start-state collision check, then Pilz's scaling factors and start-state bounds. The
+        failure message, or None."""
+        validity = self._validity(scene, jmg.name, None)
+        if not validity.collision_free(start.positions):
+            return error_message("START_STATE_IN_COLLISION", validity.collision_detail(start.positions))
+        refused = _scaling_failure(vs, acs)
+        if refused:
+            return refused
+        outside = _outside_bounds(self.robot_model, jmg, start.positions)
+        if outside:
+            return error_message("INVALID_ROBOT_STATE", f"start state joints outside their position limits: {', '.join(outside)}")
+        return None
 
     @staticmethod
     def _validity(scene, group, path_constraints, check_constraints=True) -> PathValidity:
@@ -308,10 +323,7 @@ class PilzPipeline:
         return steps
 
     def _check_endpoints(self, validity: PathValidity, start_q, goal_q, jmg, check_goal=True):
-        if _outside_bounds(self.robot_model, jmg, start_q):
-            raise _Failure(error_message("START_STATE_INVALID", f"start state is outside the joint bounds of group '{jmg.name}'"))
-        if not validity.collision_free(start_q):
-            raise _Failure(error_message("START_STATE_IN_COLLISION", validity.collision_detail(start_q)))
+        # (the start's bounds and collisions are checked first, by _refused)
         if not validity.constraints_satisfied(start_q):
             raise _Failure(error_message("START_STATE_VIOLATES_PATH_CONSTRAINTS"))
         if not check_goal:
