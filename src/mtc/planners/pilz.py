@@ -181,11 +181,8 @@ class PilzPipeline:
     ) -> tuple[PlannerResult, RobotTrajectory | None]:
         """Plan to the group's variables in ``goal``; LIN and CIRC go to the pose that the
         group's end-effector tip has in ``goal``."""
-        planner_id = self._check_planner(planner_id)
-        jmg = self.robot_model.get_joint_model_group(group)
-        check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
-        check_scaling_factor("max_acceleration_scaling_factor", max_acceleration_scaling_factor)
-        refused = self._refused(scene, start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor)
+        planner_id, jmg, vs, acs, refused = self._request(
+            scene, start, group, planner_id, max_velocity_scaling_factor, max_acceleration_scaling_factor)
         if refused:
             return PlannerResult(False, refused), None
         outside = _outside_bounds(self.robot_model, jmg, goal.positions)
@@ -193,11 +190,7 @@ class PilzPipeline:
             return PlannerResult(False, error_message(
                 "INVALID_GOAL_CONSTRAINTS", f"joint goal outside the limits of {', '.join(outside)}")), None
         if planner_id == "PTP":
-            return self._run(
-                lambda: self._ptp(scene, start, goal, jmg, path_constraints, max_velocity_scaling_factor,
-                                  max_acceleration_scaling_factor),
-                start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor,
-            )
+            return self._run(lambda: self._ptp(scene, start, goal, jmg, path_constraints, vs, acs), start, jmg, vs, acs)
         if planner_id == "CIRC":
             # as Pilz: the link on the arc is the one the interim or centre point names
             try:
@@ -216,8 +209,8 @@ class PilzPipeline:
                     f"group '{jmg.name}' has {', '.join(tips) or 'none'}")), None
             link = tips[0]
         target = goal.get_global_link_transform(link)
-        return self.plan_pose(scene, start, link, np.eye(4), target, group, planner_id, timeout,
-                              max_velocity_scaling_factor, max_acceleration_scaling_factor, path_constraints)
+        return self._plan_pose(scene, start, link, np.eye(4), target, jmg, planner_id, timeout, vs, acs,
+                               path_constraints)
 
     def plan_pose(
         self,
@@ -235,14 +228,17 @@ class PilzPipeline:
         seed: int = 0,
     ) -> tuple[PlannerResult, RobotTrajectory | None]:
         """Plan so that ``pose(link) · offset`` ends at ``target`` (planning frame)."""
-        planner_id = self._check_planner(planner_id)
-        jmg = self.robot_model.get_joint_model_group(group)
-        deadline = time.perf_counter() + (timeout if math.isfinite(timeout) else 1e9)
-        vs = check_scaling_factor("max_velocity_scaling_factor", max_velocity_scaling_factor)
-        acs = check_scaling_factor("max_acceleration_scaling_factor", max_acceleration_scaling_factor)
-        refused = self._refused(scene, start, jmg, max_velocity_scaling_factor, max_acceleration_scaling_factor)
+        planner_id, jmg, vs, acs, refused = self._request(
+            scene, start, group, planner_id, max_velocity_scaling_factor, max_acceleration_scaling_factor)
         if refused:
             return PlannerResult(False, refused), None
+        return self._plan_pose(scene, start, link, offset, target, jmg, planner_id, timeout, vs, acs,
+                               path_constraints, seed)
+
+    def _plan_pose(self, scene, start, link, offset, target, jmg, planner_id, timeout, vs, acs,
+                   path_constraints, seed: int = 0):
+        """:meth:`plan_pose` once the request has passed :meth:`_request`."""
+        deadline = time.perf_counter() + (timeout if math.isfinite(timeout) else 1e9)
         target = np.asarray(target, dtype=float)
         offset = np.asarray(offset, dtype=float)
         if planner_id == "PTP":
@@ -274,20 +270,26 @@ class PilzPipeline:
             )
         return planner_id
 
-    def _refused(self, scene, start: RobotState, jmg, vs: float, acs: float) -> str | None:
-        """The request checks that come before planning, in MoveIt's order: its pipeline's
-        start-state collision check, then Pilz's scaling factors and start-state bounds. The
-        failure message, or None."""
+    def _request(self, scene, start: RobotState, group: str, planner_id: str, vs: float, acs: float):
+        """The checks every request starts with: ``(planner id, group, velocity and
+        acceleration scaling factors, failure message or None)``. The arguments' types and
+        ranges raise (see :func:`check_scaling_factor`); then, in MoveIt's order, its
+        pipeline's start-state collision check, Pilz's scaling factors and start-state bounds
+        fail the request."""
+        planner_id = self._check_planner(planner_id)
+        jmg = self.robot_model.get_joint_model_group(group)
+        check_scaling_factor("max_velocity_scaling_factor", vs)
+        check_scaling_factor("max_acceleration_scaling_factor", acs)
+        q = start.positions
         validity = self._validity(scene, jmg.name, None)
-        if not validity.collision_free(start.positions):
-            return error_message("START_STATE_IN_COLLISION", validity.collision_detail(start.positions))
-        refused = _scaling_failure(vs, acs)
-        if refused:
-            return refused
-        outside = _outside_bounds(self.robot_model, jmg, start.positions)
-        if outside:
-            return error_message("INVALID_ROBOT_STATE", f"start state joints outside their position limits: {', '.join(outside)}")
-        return None
+        if not validity.collision_free(q):
+            refused = error_message("START_STATE_IN_COLLISION", validity.collision_detail(q))
+        else:
+            outside = _outside_bounds(self.robot_model, jmg, q)
+            refused = _scaling_failure(vs, acs) or (outside and error_message(
+                "INVALID_ROBOT_STATE", f"start state joints outside their position limits: {', '.join(outside)}")) or None
+        # (past Pilz's check the factors lie in (0.0001, 1]: as given)
+        return planner_id, jmg, float(vs), float(acs), refused
 
     @staticmethod
     def _validity(scene, group, path_constraints, check_constraints=True) -> PathValidity:
