@@ -605,9 +605,9 @@ class RobotModel:
             links.extend(subgroup.link_model_names)
             subgroups.append(sub)
         # mimic followers move with their master: a group holding the master holds them too
-        for follower, master, *_ in self.mimic_followers:
-            if self.variable_names[master] in joints:
-                joints.append(self.variable_names[follower])
+        followers = {self.variable_names[follower] for follower, master, *_ in self.mimic_followers
+                     if self.variable_names[master] in joints}
+        joints.extend(followers)
         order = self._tree_order()
         joints = sorted(dict.fromkeys(joints), key=lambda n: order.get(n, -1))
         for name in joints:
@@ -622,11 +622,10 @@ class RobotModel:
         # as MoveIt's updated links: everything below the group's moving joints (its active
         # joints and their mimic followers); a fixed joint of the group moves nothing by itself,
         # so the hand group's palm, above its finger joints, is not among them
-        followers = {self.variable_names[f] for f, master, *_ in self.mimic_followers
-                     if self.variable_names[master] in active}
+        moving = set(active) | followers
         updated = []
         for name in joints:
-            if name in self._active_names or name in followers:
+            if name in moving:
                 updated.extend(self._subtree_links(self._joints[name].child))
         updated = sorted(dict.fromkeys(updated), key=lambda n: self._links.index(n))
         return JointModelGroup(
