@@ -87,8 +87,7 @@ class AllowedCollisionMatrix:
     def remove_entry(self, first: str, second: str | None = None) -> None:
         """Drop the explicit entry of a pair, or every entry of ``first``."""
         if second is None:
-            for key in [k for k in self._entries if first in k]:
-                del self._entries[key]
+            self.forget_pairs([first])
             self._defaults.pop(first, None)
         else:
             self._entries.pop(frozenset((first, second)), None)
