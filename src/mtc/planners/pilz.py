@@ -325,7 +325,7 @@ class PilzPipeline:
         return steps
 
     def _check_endpoints(self, validity: PathValidity, start_q, goal_q, jmg, check_goal=True):
-        # (the start's bounds and collisions are checked first, by _refused)
+        # (the start's bounds and collisions are checked first, by _request)
         if not validity.constraints_satisfied(start_q):
             raise _Failure(error_message("START_STATE_VIOLATES_PATH_CONSTRAINTS"))
         if not check_goal:
