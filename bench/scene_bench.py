@@ -72,8 +72,8 @@ def bench_collisions(n_states: int, repeats: int, seed: int = 0) -> dict:
     Q = np.array(Q)
 
     is_valid = scene.state_validity_checker()
-    env = scene._collision_env()  # the same geometry and collision pairs for the baseline
-    pm = model.pinocchio_model
+    env = scene._collision_env()  # the same geometry, frame and collision pairs for the baseline
+    pm = env.pm
     data = pm.createData()
     gm = env.geom_model
     gd = gm.createData()

@@ -14,7 +14,7 @@ def test_own_joint_bound_is_attained_by_a_small_rotation(scene):
     checker = scene.motion_checker()
     env = scene._collision_env()
     model = scene.robot_model
-    pm, gm = model.pinocchio_model, env.geom_model
+    pm, gm = env.pm, env.geom_model
     data, gd = pm.createData(), gm.createData()
     q = scene.current_state.positions.copy()
     angle = 1e-4
@@ -58,7 +58,7 @@ def test_bounds_of_primitive_shapes_contain_them(scene):
     checker = scene.motion_checker()
     env = scene._collision_env()
     model = scene.robot_model
-    pm, gm = model.pinocchio_model, env.geom_model
+    pm, gm = env.pm, env.geom_model
     data, gd = pm.createData(), gm.createData()
     q = scene.current_state.positions.copy()
     j7 = model.variable_index("panda_joint7")

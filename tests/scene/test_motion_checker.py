@@ -62,7 +62,7 @@ def test_motion_bounds_hold_for_random_motions(scene):
     checker = scene.motion_checker()
     env = scene._collision_env()
     model = scene.robot_model
-    pm, gm = model.pinocchio_model, env.geom_model
+    pm, gm = env.pm, env.geom_model
     data, gd = pm.createData(), gm.createData()
     points = [_geometry_points(go.geometry) for go in gm.geometryObjects]
     tool = [g for g, go in enumerate(gm.geometryObjects) if go.name.startswith("tool")]

@@ -354,6 +354,87 @@ def _robot_motion_rows(model: RobotModel) -> tuple[list, list]:
     return entry
 
 
+#: A turn of the collision frame (see :func:`collision_turn`) is taken only when it makes the
+#: world's padded bounding boxes smaller by more than this share: a smaller gain is not worth
+#: the turned copy of the kinematics.
+TURN_MIN_GAIN = 0.02
+
+#: Padding [m] added to each side of a world shape's bounding box when turns are compared: about
+#: the size of a robot link's box, whose overlaps with the world's boxes are what costs.
+TURN_PAD = 0.1
+
+
+#: A shape whose bounding box is this wide [m] or wider counts as unbounded (a plane).
+TURN_UNBOUNDED = 1e6
+
+#: Of the world's shapes, the largest this many propose the turns :func:`collision_turn` tries.
+TURN_PROPOSERS = 8
+
+
+def _rot_z(angle: float) -> np.ndarray:
+    c, s = np.cos(angle), np.sin(angle)
+    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
+
+
+def collision_turn(shapes) -> np.ndarray | None:
+    """The turn about the planning frame's z axis (a 4x4 transform) that brings the world's
+    shapes closest to square with the axes, or None where no turn gains more than
+    :data:`TURN_MIN_GAIN`.
+
+    The broad phase culls pairs by axis-aligned bounding boxes, which coal makes for a turned
+    shape from its own box turned: a wall turned 45 degrees about z gets a box as deep as it is
+    wide, and every link near it reaches the narrow phase. Turning robot and world alike changes
+    no answer (distances, contacts and collisions are the same in any frame), so the checks run
+    where the boxes are tightest: of the turns that square one of the :data:`TURN_PROPOSERS`
+    largest shapes (plus none), the one with the smallest sum of box volumes (each side padded
+    by :data:`TURN_PAD`). Unbounded shapes (planes) do not count.
+
+    Args:
+        shapes: ``(coal geometry, 4x4 pose)`` of each world shape.
+    """
+    if not shapes:
+        return None
+    for geom, _ in shapes:
+        geom.computeLocalAABB()
+    lo = np.array([geom.aabb_local.min_ for geom, _ in shapes], dtype=float)
+    hi = np.array([geom.aabb_local.max_ for geom, _ in shapes], dtype=float)
+    with np.errstate(over="ignore", invalid="ignore"):
+        size = hi - lo  # (a plane's box spans the largest floats)
+    bounded = np.all(size < TURN_UNBOUNDED, axis=1)
+    if not bounded.any():
+        return None
+    H = size[bounded] / 2
+    Rs = np.array([pose[:3, :3] for pose, keep in zip((np.asarray(p, dtype=float) for _, p in shapes), bounded) if keep])
+    # the turns that bring an axis of a proposer, one not near vertical, along x
+    proposers = np.argsort(-np.prod(H, axis=1), kind="stable")[:TURN_PROPOSERS]
+    axes = np.swapaxes(Rs[proposers], 1, 2).reshape(-1, 3)
+    axes = axes[np.abs(axes[:, 2]) < 0.9]
+    angles = sorted(set(np.round(np.arctan2(axes[:, 1], axes[:, 0]) % (np.pi / 2), 9).tolist()) - {0.0})
+    if not angles:
+        return None
+    turns = np.array([_rot_z(-a) for a in [0.0, *angles]])
+    # per turn and shape, the box of the shape's box turned: half extents |turn R| h
+    A = np.abs(np.einsum("tij,njk->tnik", turns, Rs))
+    extents = 2.0 * np.einsum("tnik,nk->tni", A, H) + 2.0 * TURN_PAD
+    volumes = np.prod(extents, axis=2).sum(axis=1)
+    k = int(np.argmin(volumes[1:])) + 1
+    if volumes[k] > (1.0 - TURN_MIN_GAIN) * volumes[0]:
+        return None
+    T = np.eye(4)
+    T[:3, :3] = turns[k]
+    return T
+
+
+def _turned_model(pm: pin.Model, turn: pin.SE3) -> pin.Model:
+    """A copy of the Pinocchio model whose root joints (those on the universe) are placed by
+    ``turn`` first: every body of the copy lies where the model has it, turned."""
+    out = pm.copy()
+    for j in range(1, out.njoints):
+        if out.parents[j] == 0:
+            out.jointPlacements[j] = turn * out.jointPlacements[j]
+    return out
+
+
 class _CollisionEnv:
     """Robot links + world objects + attached objects in one Pinocchio GeometryModel, with the
     collision pairs the ACM does not allow. Built per (world, attached, ACM) version."""
@@ -361,19 +442,31 @@ class _CollisionEnv:
     def __init__(self, model: RobotModel, world: dict, attached: dict, acm: AllowedCollisionMatrix):
         self.model = model
         pm = model.pinocchio_model
+        shapes = [(f"{obj.id}#{k}", obj.id, geom, obj.pose @ shape_pose)
+                  for obj in world.values() for k, (geom, shape_pose) in enumerate(zip(obj.geometries, obj.shape_poses))]
+        # the checks run in a frame turned about the planning frame's z axis so that the world's
+        # shapes lie as square to its axes as they can (see collision_turn): the broad phase
+        # then has fewer false pairs. Every placement is turned alike, so every answer is the
+        # same; positions the env reports are turned back (turn_back).
+        self.turn = collision_turn([(geom, pose) for _, _, geom, pose in shapes])
+        turn = None if self.turn is None else pin.SE3(self.turn)
+        # the kinematics the checks run on: the robot's, its root joints' placements turned
+        self.pm = pm if turn is None else _turned_model(pm, turn)
         gm = pin.GeometryModel()
         bodies: list[str] = []
         kinds: list[str] = []  # "robot", "world", "attached"
         for go in model.collision_model.geometryObjects:
+            if turn is not None and go.parentJoint == 0:
+                go = go.copy()
+                go.placement = turn * go.placement
             gm.addGeometryObject(go)
             bodies.append(pm.frames[go.parentFrame].name)
             kinds.append("robot")
-        for obj in world.values():
-            for k, (geom, shape_pose) in enumerate(zip(obj.geometries, obj.shape_poses)):
-                M = pin.SE3(obj.pose @ shape_pose)
-                gm.addGeometryObject(pin.GeometryObject(f"{obj.id}#{k}", 0, 0, M, geom))
-                bodies.append(obj.id)
-                kinds.append("world")
+        for name, obj_id, geom, pose in shapes:
+            M = pin.SE3(pose if self.turn is None else self.turn @ pose)
+            gm.addGeometryObject(pin.GeometryObject(name, 0, 0, M, geom))
+            bodies.append(obj_id)
+            kinds.append("world")
         touch = {}
         attached_to = {att.id: att.link for att in attached.values()}
         for att in attached.values():
@@ -381,6 +474,8 @@ class _CollisionEnv:
             frame = pm.frames[fid]
             for k, (geom, shape_pose) in enumerate(zip(att.object.geometries, att.object.shape_poses)):
                 M = frame.placement * pin.SE3(att.object.pose @ shape_pose)
+                if turn is not None and frame.parentJoint == 0:
+                    M = turn * M
                 gm.addGeometryObject(pin.GeometryObject(f"{att.id}#{k}", frame.parentJoint, fid, M, geom))
                 bodies.append(att.id)
                 kinds.append("attached")
@@ -410,7 +505,7 @@ class _CollisionEnv:
                 if not allowed_cache[key]:
                     gm.addCollisionPair(pin.CollisionPair(i, j))
                     self.pairs.append((i, j))
-        self.data = pm.createData()
+        self.data = self.pm.createData()
         self._checkers: dict[str, tuple] = {}
 
     def _moving_bodies(self, group: str | None) -> set[str] | None:
@@ -472,7 +567,7 @@ class _CollisionEnv:
                 manager_type = pin.BroadPhaseManager_NaiveCollisionManager
             else:
                 manager_type = pin.BroadPhaseManager_SSaPCollisionManager
-            manager = manager_type(self.model.pinocchio_model, self.geom_model, gd)
+            manager = manager_type(self.pm, self.geom_model, gd)
             entry = (gd, manager)
             self._checkers[key] = entry
         return entry
@@ -492,7 +587,7 @@ class _CollisionEnv:
 
     def colliding(self, q: np.ndarray, group: str | None) -> bool:
         _, manager = self.checker(group)
-        return bool(pin.computeCollisions(self.model.pinocchio_model, self.data, manager, q, True))
+        return bool(pin.computeCollisions(self.pm, self.data, manager, q, True))
 
     def _geometry_data(self, mask: np.ndarray) -> pin.GeometryData:
         gd = self.geom_model.createData()
@@ -540,9 +635,16 @@ class _CollisionEnv:
         self._motion_model = (B, movable, T)
         return self._motion_model
 
+    def turn_back(self, point: np.ndarray, direction: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """A point and a direction from the env's (turned) frame in the planning frame."""
+        if self.turn is None:
+            return point, direction
+        R = self.turn[:3, :3].T
+        return R @ point, R @ direction
+
     def query_data(self, q: np.ndarray, mask: np.ndarray) -> pin.GeometryData:
         gd = self._geometry_data(mask)
-        pin.updateGeometryPlacements(self.model.pinocchio_model, self.data, self.geom_model, gd, q)
+        pin.updateGeometryPlacements(self.pm, self.data, self.geom_model, gd, q)
         return gd
 
 
@@ -578,7 +680,7 @@ class MotionChecker:
     """
 
     def __init__(self, env: _CollisionEnv, group: str | None):
-        pm = env.model.pinocchio_model
+        pm = env.pm
         self._env = env  # the managers point into its geometry model
         self._pm = pm
         self._gm = env.geom_model
@@ -1382,7 +1484,7 @@ class PlanningScene:
         bound to the scene as it is now."""
         self._check_group(group)
         env = self._collision_env()
-        pm = self._model.pinocchio_model
+        pm = env.pm
         data = pm.createData()
         _, manager = env.checker(group)
         compute = pin.computeCollisions
@@ -1445,7 +1547,8 @@ class PlanningScene:
             key = (env.bodies[i], env.bodies[j])
             contacts = seen.setdefault(key, [])
             for c in result.getContacts():
-                contacts.append((np.array(c.pos), np.array(c.normal), float(c.penetration_depth)))
+                pos, normal = env.turn_back(np.array(c.pos), np.array(c.normal))
+                contacts.append((pos, normal, float(c.penetration_depth)))
         return [(a, b, c) for (a, b), c in seen.items()]
 
     def get_link_collisions_at(
@@ -1470,7 +1573,8 @@ class PlanningScene:
         env = self._collision_env()
         gd = env.query_data(st._q, np.ones(len(env.pairs), dtype=bool))
         moved = env._attached_on(moved_links) | moved_links
-        shift = pin.SE3(delta)
+        # (the env's placements are in its turned frame: so is the shift)
+        shift = pin.SE3(delta if env.turn is None else env.turn @ delta @ env.turn.T)
         request = coal.CollisionRequest()
         request.gjk_tolerance = GJK_TOLERANCE  # the fast checks' settings (see CONTACT_MARGIN)
         request.security_margin = CONTACT_MARGIN
