@@ -185,3 +185,29 @@ def test_turn_cuts_the_pairs_that_reach_the_narrow_phase(scenes):
         counts.append(total)
     turned, plain = counts
     assert turned < 0.8 * plain
+
+
+def test_a_robot_on_a_prismatic_root_joint_collides_the_same_turned(cube, monkeypatch):
+    """The turn places the root joints (here a slide along x), not only the Panda's base."""
+
+    def walled(model) -> PlanningScene:
+        scene = PlanningScene(model)
+        quat = _quat_z(0.4)
+        for name, xyz in (("near", (0.3, 0.12, 0.1)), ("far", (-0.5, -0.1, 0.2))):
+            scene.apply_collision_object(box(name, xyz, (0.4, 0.03, 0.3), quat=quat))
+        return scene
+
+    turned = walled(cube)
+    assert turned._collision_env().turn is not None
+    monkeypatch.setattr(ps_module, "collision_turn", lambda shapes: None)
+    plain = walled(cube)
+    rng = np.random.default_rng(2)
+    colliding = 0
+    for _ in range(300):
+        state = turned.current_state.copy()
+        state.set_to_random_positions("all", rng=rng)
+        c = turned.is_state_colliding(state)
+        assert c == plain.is_state_colliding(state)
+        assert sorted(turned.get_collisions(state)) == sorted(plain.get_collisions(state))
+        colliding += c
+    assert 20 < colliding < 280
