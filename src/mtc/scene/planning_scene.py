@@ -363,7 +363,6 @@ TURN_MIN_GAIN = 0.02
 #: the size of a robot link's box, whose overlaps with the world's boxes are what costs.
 TURN_PAD = 0.1
 
-
 #: A shape whose bounding box is this wide [m] or wider counts as unbounded (a plane).
 TURN_UNBOUNDED = 1e6
 
@@ -404,7 +403,7 @@ def collision_turn(shapes) -> np.ndarray | None:
     if not bounded.any():
         return None
     H = size[bounded] / 2
-    Rs = np.array([pose[:3, :3] for pose, keep in zip((np.asarray(p, dtype=float) for _, p in shapes), bounded) if keep])
+    Rs = np.array([np.asarray(pose, dtype=float)[:3, :3] for _, pose in shapes])[bounded]
     # the turns that bring an axis of a proposer, one not near vertical, along x
     proposers = np.argsort(-np.prod(H, axis=1), kind="stable")[:TURN_PROPOSERS]
     axes = np.swapaxes(Rs[proposers], 1, 2).reshape(-1, 3)
