@@ -393,6 +393,10 @@ def collision_turn(shapes) -> np.ndarray | None:
     """
     if not shapes:
         return None
+    rotations = np.array([np.asarray(pose, dtype=float)[:3, :3] for _, pose in shapes])
+    A = np.abs(rotations)
+    if np.all((A < 1e-9) | (A > 1.0 - 1e-9)):
+        return None  # (the common case, all square already: no turn gains)
     for geom, _ in shapes:
         geom.computeLocalAABB()
     lo = np.array([geom.aabb_local.min_ for geom, _ in shapes], dtype=float)
@@ -403,7 +407,7 @@ def collision_turn(shapes) -> np.ndarray | None:
     if not bounded.any():
         return None
     H = size[bounded] / 2
-    Rs = np.array([np.asarray(pose, dtype=float)[:3, :3] for _, pose in shapes])[bounded]
+    Rs = rotations[bounded]
     # the turns that bring an axis of a proposer, one not near vertical, along x
     proposers = np.argsort(-np.prod(H, axis=1), kind="stable")[:TURN_PROPOSERS]
     axes = np.swapaxes(Rs[proposers], 1, 2).reshape(-1, 3)
