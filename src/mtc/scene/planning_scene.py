@@ -445,31 +445,19 @@ class _CollisionEnv:
     def __init__(self, model: RobotModel, world: dict, attached: dict, acm: AllowedCollisionMatrix):
         self.model = model
         pm = model.pinocchio_model
-        shapes = [(f"{obj.id}#{k}", obj.id, geom, obj.pose @ shape_pose)
-                  for obj in world.values() for k, (geom, shape_pose) in enumerate(zip(obj.geometries, obj.shape_poses))]
-        # the checks run in a frame turned about the planning frame's z axis so that the world's
-        # shapes lie as square to its axes as they can (see collision_turn): the broad phase
-        # then has fewer false pairs. Every placement is turned alike, so every answer is the
-        # same; positions the env reports are turned back (turn_back).
-        self.turn = collision_turn([(geom, pose) for _, _, geom, pose in shapes])
-        turn = None if self.turn is None else pin.SE3(self.turn)
-        # the kinematics the checks run on: the robot's, its root joints' placements turned
-        self.pm = pm if turn is None else _turned_model(pm, turn)
         gm = pin.GeometryModel()
         bodies: list[str] = []
         kinds: list[str] = []  # "robot", "world", "attached"
         for go in model.collision_model.geometryObjects:
-            if turn is not None and go.parentJoint == 0:
-                go = go.copy()
-                go.placement = turn * go.placement
             gm.addGeometryObject(go)
             bodies.append(pm.frames[go.parentFrame].name)
             kinds.append("robot")
-        for name, obj_id, geom, pose in shapes:
-            M = pin.SE3(pose if self.turn is None else self.turn @ pose)
-            gm.addGeometryObject(pin.GeometryObject(name, 0, 0, M, geom))
-            bodies.append(obj_id)
-            kinds.append("world")
+        for obj in world.values():
+            for k, (geom, shape_pose) in enumerate(zip(obj.geometries, obj.shape_poses)):
+                M = pin.SE3(obj.pose @ shape_pose)
+                gm.addGeometryObject(pin.GeometryObject(f"{obj.id}#{k}", 0, 0, M, geom))
+                bodies.append(obj.id)
+                kinds.append("world")
         touch = {}
         attached_to = {att.id: att.link for att in attached.values()}
         for att in attached.values():
@@ -477,12 +465,24 @@ class _CollisionEnv:
             frame = pm.frames[fid]
             for k, (geom, shape_pose) in enumerate(zip(att.object.geometries, att.object.shape_poses)):
                 M = frame.placement * pin.SE3(att.object.pose @ shape_pose)
-                if turn is not None and frame.parentJoint == 0:
-                    M = turn * M
                 gm.addGeometryObject(pin.GeometryObject(f"{att.id}#{k}", frame.parentJoint, fid, M, geom))
                 bodies.append(att.id)
                 kinds.append("attached")
             touch[att.id] = att.touch_links | {att.link}
+        # the checks run in a frame turned about the planning frame's z axis so that the world's
+        # shapes lie as square to its axes as they can (see collision_turn): the broad phase
+        # then has fewer false pairs. Everything is turned alike, so every answer is the same;
+        # positions the env reports are turned back (turn_back).
+        geoms = gm.geometryObjects
+        self.turn = collision_turn([(go.geometry, go.placement.homogeneous)
+                                    for go, kind in zip(geoms, kinds) if kind == "world"])
+        self.pm = pm  # the kinematics the checks run on
+        if self.turn is not None:
+            turn = pin.SE3(self.turn)
+            self.pm = _turned_model(pm, turn)  # the root joints' placements turned
+            for go in geoms:  # and what is fixed to the universe (world, base-fixed links)
+                if go.parentJoint == 0:
+                    go.placement = turn * go.placement
         self.geom_model = gm
         self.bodies = bodies
         self.kinds = kinds
