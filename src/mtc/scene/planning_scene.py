@@ -394,8 +394,8 @@ def collision_turn(shapes) -> np.ndarray | None:
     if not shapes:
         return None
     rotations = np.array([np.asarray(pose, dtype=float)[:3, :3] for _, pose in shapes])
-    A = np.abs(rotations)
-    if np.all((A < 1e-9) | (A > 1.0 - 1e-9)):
+    entries = np.abs(rotations)
+    if np.all((entries < 1e-9) | (entries > 1.0 - 1e-9)):
         return None  # (the common case, all square already: no turn gains)
     for geom, _ in shapes:
         geom.computeLocalAABB()
