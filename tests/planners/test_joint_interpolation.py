@@ -39,6 +39,13 @@ def test_defaults_and_typed_properties():
         planner.max_step = "fast"
     with pytest.raises(ValueError, match=r"max_velocity_scaling_factor must be in \(0, 1\]"):
         planner.max_velocity_scaling_factor = 1.5
+    # a value of the wrong type is a TypeError (api.md), through the attribute and the setter
+    for wrong in ("0.5", True, [0.5]):
+        with pytest.raises(TypeError, match="max_velocity_scaling_factor"):
+            planner.max_velocity_scaling_factor = wrong
+        with pytest.raises(TypeError, match="max_acceleration_scaling_factor"):
+            planner.setMaxAccelerationScalingFactor(wrong)
+    assert planner.max_velocity_scaling_factor == 0.5  # nothing half-applied
     planner.max_velocity_scaling_factor = 0.0  # accepted: MoveIt's default (1.0)
     with pytest.raises(AttributeError):
         planner.properties = None

@@ -72,8 +72,12 @@ def error_message(code: str, detail: str = "") -> str:
 
 
 def _scaling(name: str):
+    """A property converter: a number must be a valid scaling factor (anything else is left to
+    the property's type check, a ``TypeError``)."""
+
     def convert(value):
-        check_scaling_factor(name, value)
+        if msgs.is_number(value):
+            check_scaling_factor(name, value)
         return value
 
     return convert
