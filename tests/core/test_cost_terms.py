@@ -427,3 +427,23 @@ def test_clearance_with_nothing_to_measure_is_infinite_distance_and_no_cost():
     sol = _sub(None, start=state, end=state)
     assert core.Clearance()(sol) == (0.0, "Clearance: distance inf between '' and ''")
     assert core.Clearance(cumulative=True)(sol) == (0.0, "Clearance: cumulative distance inf")
+
+
+def test_clearance_along_no_trajectory_is_no_cost():
+    """Trajectory mode on a solution without waypoints (a generator's) measures nothing: cost 0
+    with a comment, as DistanceToReference gives 0 there (MTC would divide by zero), and a task
+    with that cost term still plans."""
+    panda = mtc.robots.panda()
+    scene = mtc.PlanningScene(panda)
+    state = core.InterfaceState(scene)
+    term = core.Clearance(mode=core.TrajectoryCostTerm.Mode.TRAJECTORY)
+    for traj in (None, mtc.RobotTrajectory(panda, "panda_arm")):
+        assert term(_sub(traj, start=state, end=state)) == (0.0, "Clearance: no trajectory waypoints to measure")
+    reference = core.DistanceToReference({"panda_joint1": 1.0}, core.TrajectoryCostTerm.Mode.TRAJECTORY)
+    assert reference(_sub(None, start=state, end=state)) == 0.0
+    task = core.Task()
+    task.loadRobotModel(panda)
+    current = mtc.stages.CurrentState("current")
+    current.setCostTerm(term)
+    task.add(current)
+    assert task.plan() and task.solutions[0].cost == 0.0

@@ -484,6 +484,8 @@ class Clearance(TrajectoryCostTerm):
         scene = solution.start.scene
         group = self._group(solution, solution.start)
         wps = _waypoints(traj)
+        if not wps:  # nothing moves (as DistanceToReference in this mode)
+            return 0.0, "Clearance: no trajectory waypoints to measure"
         total = 0.0
         for w in wps:
             d, a, b = self._query(scene, w, group)
