@@ -136,6 +136,24 @@ def test_allow_collisions_pairs_and_all(make_task):
     assert not start_scene(m).allowed_collision_matrix.get_entry("panda_link1", "panda_hand")
 
 
+def test_allow_collisions_by_mtc_keywords(make_task):
+    """MTC's binding names its arguments: allowCollisions(object=..., enable_collision=...) and
+    allowCollisions(first=..., second=..., enable_collision=...); object= with first/second, or
+    no names at all, is a TypeError that changes nothing."""
+    m = stages.ModifyPlanningScene()
+    m.allowCollisions(object="panda_link5", enable_collision=True)
+    m.allowCollisions(first="panda_link1", second=["panda_hand"], enable_collision=True)
+    for bad in (lambda: m.allowCollisions(), lambda: m.allowCollisions("a", object="b"),
+                lambda: m.allowCollisions(second="b", object="c")):
+        with pytest.raises(TypeError, match="allowCollisions"):
+            bad()
+    task = forward_task(make_task, m)
+    assert task.plan()
+    acm = end_scene(m).allowed_collision_matrix
+    assert acm.get_default_entry("panda_link5") and acm.get_entry("panda_link1", "panda_hand")
+    assert not acm.get_default_entry("panda_link1") and not acm.get_entry("panda_link2", "panda_hand")
+
+
 def test_allow_collisions_with_an_empty_list_allows_all(make_task):
     """As MTC: an empty second list means every collision of the first names, as no list does
     (the default entry and all explicit entries)."""

@@ -34,6 +34,10 @@ def _names(value, what: str) -> list[str]:
     raise InvalidNamesError(f"{what} must be a name (str) or a list of names, got {value!r}")
 
 
+#: allowCollisions() called without names (see there)
+_NO_NAMES = object()
+
+
 class ModifyPlanningScene(PropagatingEitherWay):
     """Apply configured changes to the planning scene.
 
@@ -112,11 +116,12 @@ class ModifyPlanningScene(PropagatingEitherWay):
             return
         self._collision_objects.append(_copy_msg(collision_object))
 
-    def allowCollisions(self, first, second=None, enable_collision=True) -> None:
+    def allowCollisions(self, first=_NO_NAMES, second=None, enable_collision=True, *,
+                        object=_NO_NAMES) -> None:  # noqa: A002 (MTC's keyword)
         """Allow (or forbid, ``enable_collision=False``) collisions.
 
-        Forms: ``allowCollisions(object, allow=True)`` or ``allowCollisions(object, [], allow)``
-        (all collisions of ``object``);
+        Forms: ``allowCollisions(object, enable_collision=True)`` or ``allowCollisions(object,
+        [], allow)`` (all collisions of ``object``; MTC's keyword ``object=`` is taken too);
         ``allowCollisions(first, second, allow=True)`` with each of ``first``/``second`` a
         name or a list of names; ``allowCollisions(name, joint_model_group, allow)`` (the
         group's links with collision geometry).
@@ -124,6 +129,14 @@ class ModifyPlanningScene(PropagatingEitherWay):
         Raises:
             TypeError/RuntimeError: Invalid names (None, numbers, dicts, ...).
         """
+        if object is not _NO_NAMES:  # MTC's allowCollisions(object, enable_collision) by keyword
+            if first is not _NO_NAMES or second is not None:
+                raise TypeError("allowCollisions() takes either object= (all collisions of it) or first/second, "
+                                "not both")
+            first = object
+        elif first is _NO_NAMES:
+            raise TypeError("allowCollisions() needs the names: allowCollisions(object, enable_collision=True) "
+                            "or allowCollisions(first, second, enable_collision=True)")
         if msgs.is_bool(second) and enable_collision is True:
             # allowCollisions(object, allow) written positionally
             second, enable_collision = None, second
