@@ -102,6 +102,19 @@ def test_attached_object_frame_as_tip(panda):
     assert dp < 1e-5 and dr < 1e-5
 
 
+def test_zero_timeout_means_the_groups_default(panda):
+    """As MoveIt's setFromIK (and moveit_py's default argument): a timeout of 0 or less is the
+    group's default IK timeout, not no time at all. The pose needs restarts: the attempt from
+    the seed alone does not reach it."""
+    target = _random_state(panda, np.random.default_rng(0)).get_global_link_transform("panda_link8")
+    assert not ik.solve_ik(_ready(panda), "panda_arm", target, random_restarts=False)
+    for timeout in (0.0, -1.0, None):
+        state = _ready(panda)
+        assert state.set_from_ik("panda_arm", target, timeout=timeout)
+        dp, dr = _pose_error(state.get_global_link_transform("panda_link8"), target)
+        assert dp < 1e-5 and dr < 1e-5
+
+
 def test_failure_leaves_state_unchanged(panda):
     """An unreachable pose returns False and keeps the state."""
     state = _ready(panda)

@@ -415,11 +415,15 @@ def set_from_ik(
     rng: np.random.Generator | int | None = None,
     **kwargs,
 ) -> bool:
-    """Set ``state``'s group variables from an IK solution (see :func:`solve_ik`).
+    """Set ``state``'s group variables from an IK solution (see :func:`solve_ik`). As MoveIt's
+    ``setFromIK``, a ``timeout`` of 0 (moveit_py's default) or less means the group's default IK
+    timeout.
 
     Returns:
         True on success; on failure the state is unchanged.
     """
+    if timeout is not None and timeout <= 0.0:
+        timeout = None
     solutions = solve_ik(state, group, pose, tip, timeout, offset, is_valid, rng, max_solutions=1, **kwargs)
     if not solutions:
         return False

@@ -404,8 +404,9 @@ class RobotState:
     @moveit_py_keywords(joint_model_group_name="group", geometry_pose="pose", tip_name="tip")
     def set_from_ik(self, group: str, pose, tip: str | None = None, timeout: float | None = None, **kwargs) -> bool:
         """Solve inverse kinematics for ``group`` so that ``tip`` (default: the group's end
-        effector tip) reaches ``pose`` (``msgs.Pose`` or 4x4 in the model frame). On success the
-        state's group variables are set; on failure the state is unchanged.
+        effector tip) reaches ``pose`` (``msgs.Pose`` or 4x4 in the model frame) within ``timeout``
+        [s] (None, 0 or less: the group's default IK timeout, as MoveIt). On success the state's
+        group variables are set; on failure the state is unchanged.
 
         Other keyword arguments go to :func:`mtc.planners.ik.solve_ik` (e.g. ``is_valid``,
         ``rng``, ``offset``).
