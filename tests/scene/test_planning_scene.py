@@ -110,6 +110,9 @@ def test_moveit_py_call_forms(scene):
     state = scene.current_state
     assert scene.is_state_colliding(robot_state=state, joint_model_group_name="panda_arm", verbose=True)
     assert scene.is_state_colliding("panda_arm") and scene.is_state_colliding(state, "panda_arm", True)
+    # moveit_py's (joint_model_group_name, verbose) by position
+    assert scene.is_state_colliding("panda_arm", True) and not scene.is_state_valid("panda_arm", True)
+    assert not scene.is_state_colliding("hand", False)
     assert not scene.is_state_valid(robot_state=state, joint_model_group_name="panda_arm")
     with pytest.raises(TypeError, match="got both 'state' and moveit_py's name for it, 'robot_state'"):
         scene.is_state_colliding(state=state, robot_state=state)
@@ -261,6 +264,9 @@ def test_moveit_py_frame_forms(scene):
     state = scene.current_state
     assert scene.knows_frame_transform(state, "panda_hand") and not scene.knows_frame_transform(state, "nope")
     assert scene.knows_frame_transform(frame_id="panda_hand")
+    assert scene.knows_frame_transform(robot_state=state, frame_id="panda_hand")
+    assert scene.knows_frame_transform(state, frame_id="panda_hand")
+    assert not scene.knows_frame_transform(state, frame_id="nope")
     np.testing.assert_array_equal(scene.get_frame_transform(frame_id="panda_hand"), scene.get_frame_transform("panda_hand"))
     with pytest.raises(TypeError, match="robot_state must be a RobotState"):
         scene.knows_frame_transform("panda_hand", "panda_link0")

@@ -1378,11 +1378,13 @@ class PlanningScene:
         )
 
     @moveit_py_keywords(frame_id="frame")
-    def knows_frame_transform(self, *args, frame: str | None = None) -> bool:
+    def knows_frame_transform(self, *args, frame: str | None = None, robot_state: RobotState | None = None) -> bool:
         """Whether ``frame`` names a link, object or subframe (or the planning frame); an empty
         name is no frame, as in MoveIt (:meth:`get_frame_transform` reads it as the planning
         frame, as headers do). As moveit_py, also ``knows_frame_transform(robot_state, frame_id)``
-        (which frames exist does not depend on the state's values)."""
+        (which frames exist does not depend on the state's values), with its keyword names."""
+        if robot_state is not None:
+            args = (robot_state, *args)
         if len(args) == 2 and frame is None:
             state, frame = args
             if not isinstance(state, RobotState):
@@ -1390,6 +1392,8 @@ class PlanningScene:
                                 f"not {type(state).__name__}")
         elif len(args) == 1 and frame is None:
             frame = args[0]
+        elif len(args) == 1 and isinstance(args[0], RobotState):
+            pass  # knows_frame_transform(robot_state, frame_id=...)
         elif args or frame is None:
             raise TypeError("knows_frame_transform takes (frame_id) or (robot_state, frame_id)")
         if plain_frame(frame) == "":  # (a TypeError for a non-str, as get_frame_transform's)
@@ -1420,15 +1424,18 @@ class PlanningScene:
             self._model.get_joint_model_group(group)
 
     @staticmethod
-    def _state_and_group(state, group) -> tuple[RobotState | None, str | None]:
-        """moveit_py's ``(joint_model_group_name)`` form: a group name alone checks the current state."""
+    def _state_and_group(state, group, verbose) -> tuple[RobotState | None, str | None, bool]:
+        """moveit_py's ``(joint_model_group_name, verbose=False)`` form: a group name alone checks
+        the current state."""
         if isinstance(state, str):
+            if isinstance(group, bool) and verbose is False:  # (group name, verbose) by position
+                return None, state, group
             if group is not None:
                 raise TypeError(f"give a RobotState and a group name, or a group name alone; got {state!r}, {group!r}")
-            return None, state
+            return None, state, verbose
         if state is not None and not isinstance(state, RobotState):
             raise TypeError(f"state must be a RobotState (or, as in moveit_py, a group name), not {type(state).__name__}")
-        return state, group
+        return state, group, verbose
 
     @moveit_py_keywords(robot_state="state", joint_model_group_name="group")
     def is_state_colliding(self, state: RobotState | None = None, group: str | None = None, verbose: bool = False) -> bool:
@@ -1441,7 +1448,7 @@ class PlanningScene:
             group: restrict to pairs involving a body the group moves.
             verbose: log the colliding pairs (logger ``mtc.scene.planning_scene``, INFO).
         """
-        state, group = self._state_and_group(state, group)
+        state, group, verbose = self._state_and_group(state, group, verbose)
         self._check_group(group)
         colliding = self._collision_env().colliding(self._q(state), group)
         if colliding and verbose:
@@ -1452,7 +1459,7 @@ class PlanningScene:
     def is_state_valid(self, state: RobotState | None = None, group: str | None = None, verbose: bool = False) -> bool:
         """Collision-free (for ``group``'s links), as MoveIt's ``isStateValid``: like it, this
         does not look at the joint bounds (:meth:`RobotState.satisfies_bounds` does)."""
-        state, group = self._state_and_group(state, group)
+        state, group, verbose = self._state_and_group(state, group, verbose)
         st = self._state if state is None else state
         return not self.is_state_colliding(st, group, verbose)
 
