@@ -413,26 +413,40 @@ def test_start_slightly_outside_bounds_is_moved_onto_them(ready_scene, pipeline)
     assert all(w.satisfies_bounds(ARM) for w in traj.waypoints[1:])
 
 
-def test_goal_outside_bounds(ready_scene, pipeline):
-    goal = _state(ready_scene, panda_joint1=4.0)
-    result, traj = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM)
-    assert not result and traj is None
-    assert result.message.startswith("GOAL_STATE_INVALID: goal state: joint 'panda_joint1' = 4 is outside")
+def test_goal_outside_bounds_is_planned_to_the_bound(ready_scene, pipeline, caplog):
+    """As MoveIt's joint constraint: a joint goal beyond its bound is moved onto the bound with
+    MoveIt's warning, and the path ends there (the other joints as asked)."""
+    lower, upper = ready_scene.robot_model.lower_bounds[0], ready_scene.robot_model.upper_bounds[0]
+    for value, bound, side in ((4.0, upper, "maximum"), (-4.0, lower, "minimum")):
+        goal = _state(ready_scene, panda_joint1=value, panda_joint2=0.3)
+        caplog.clear()
+        with caplog.at_level("WARNING", logger="mtc.planners.ompl_pipeline"):
+            result, traj = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM)
+        assert result, result.message
+        end = traj[-1].positions
+        assert end[0] == bound and end[1] == pytest.approx(0.3, abs=1e-12)
+        assert all(w.satisfies_bounds(ARM) for w in traj.waypoints)
+        assert f"panda_joint1 = {value:g} is constrained to be" in caplog.text
+        assert f"Assuming {side} bounds instead" in caplog.text
 
 
-def test_goal_within_its_tolerance_of_a_bound_is_planned_to_the_bound(ready_scene, pipeline):
+def test_goal_within_its_tolerance_of_a_bound_is_planned_to_the_bound(ready_scene, pipeline, caplog):
     """As MoveIt's joint constraint, whose region reaches into the bounds: the Panda's own
     'extended' state sent as float32 lies 3e-9 above joint 4's bound, within the goal tolerance
-    (1e-4); it is planned to the bound. Beyond the tolerance it is reported, with the excess."""
+    (1e-4); it is planned to the bound without a warning. Beyond the tolerance, too, with one."""
     upper = ready_scene.robot_model.upper_bounds[3]
     goal = _state(ready_scene, panda_joint4=float(np.float32(upper)))
     assert goal.positions[3] > upper
-    result, traj = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM)
+    with caplog.at_level("WARNING", logger="mtc.planners.ompl_pipeline"):
+        result, traj = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM)
     assert result, result.message
     assert traj[-1].positions[3] == upper
+    assert "bounds instead" not in caplog.text
     goal = _state(ready_scene, panda_joint4=upper + 0.01)
-    result, _ = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM)
-    assert not result and result.message.endswith(f"is outside its bounds [-3.0718, {upper:.6g}] by 0.01")
+    with caplog.at_level("WARNING", logger="mtc.planners.ompl_pipeline"):
+        result, traj = pipeline.plan_joint(ready_scene, ready_scene.current_state, goal, ARM)
+    assert result and traj[-1].positions[3] == upper
+    assert "Assuming maximum bounds instead" in caplog.text
 
 
 def test_timeout(blocked, pipeline):

@@ -14,8 +14,9 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    ``FixStartStateBounds`` does, and the original start becomes the first waypoint; farther
    out is ``START_STATE_INVALID``. A start in collision or violating the path constraints
    fails with the colliding bodies or the violated constraint in the message.
-2. The goal is checked the same way (``GOAL_STATE_INVALID``, ``GOAL_IN_COLLISION``,
-   ``GOAL_VIOLATES_PATH_CONSTRAINTS``). Pose goals are turned into goal states by inverse
+2. The goal is checked for collisions and path constraints (``GOAL_IN_COLLISION``,
+   ``GOAL_VIOLATES_PATH_CONSTRAINTS``). A joint goal beyond its bounds is moved onto them with a
+   warning, as MoveIt's joint constraint does ("Assuming maximum bounds instead"). Pose goals are turned into goal states by inverse
    kinematics (several distinct, valid solutions; the planner may reach any of them). A start
    or goal that touches an obstacle (closer than :data:`CERTIFY_MIN_MARGIN`, so that no motion
    from or to it can be proven free, see 4.) fails at once with ``START_STATE_IN_COLLISION`` or
@@ -1132,7 +1133,6 @@ class OMPLPipeline:
         if failure is not None:
             # as MoveIt, whose joint goal is the region within the tolerance of every joint:
             # an invalid goal state is replaced by valid ones sampled in that region
-            # (a goal beyond its bounds by more than the tolerance leaves no region: none found)
             goals = self._joint_goal_region(req, x_goal, goal_joint_tolerance, seed)
             if not goals:
                 return self._fail(req, failure)
@@ -1333,22 +1333,19 @@ class OMPLPipeline:
 
     def _check_goal(self, req: _Request, x_goal: np.ndarray, what: str, tolerance: float = 0.0) -> str | None:
         """None when ``x_goal`` is a valid goal, else the failure message. A joint value beyond
-        its bound by no more than ``tolerance`` (the goal's joint tolerance) is moved onto the
-        bound: the goal region reaches into the bounds there (as MoveIt's joint constraint)."""
+        its bound is moved onto the bound, as MoveIt's joint constraint does: within ``tolerance``
+        (the goal's joint tolerance) the goal region reaches into the bounds; beyond it MoveIt
+        warns and assumes the bound instead (so do we)."""
         model = req.scene.robot_model
         jmg = req.group
         cont = model.continuous_mask[jmg.variable_indices]
         x_goal[cont] = wrap_angle(x_goal[cont])
         lo, hi = self._group_bounds(model, jmg.variable_indices)
         slack = max(1e-9, float(tolerance))
-        bad = np.nonzero((x_goal < lo - slack) | (x_goal > hi + slack))[0]
-        if bad.size:
-            k = int(bad[0])
-            excess = max(lo[k] - x_goal[k], x_goal[k] - hi[k])
-            return (
-                f"GOAL_STATE_INVALID: {what}: joint '{jmg.variable_names[k]}' = {x_goal[k]:.6g} is outside "
-                f"its bounds [{lo[k]:.6g}, {hi[k]:.6g}] by {excess:.3g}"
-            )
+        for k in np.nonzero((x_goal < lo - slack) | (x_goal > hi + slack))[0].tolist():
+            side = "below the minimum" if x_goal[k] < lo[k] else "above the maximum"
+            log.warning("%s: joint %s = %.6g is constrained to be %s bounds [%.6g, %.6g]. Assuming %s bounds "
+                        "instead.", what, jmg.variable_names[k], x_goal[k], side, lo[k], hi[k], side.split()[-1])
         np.clip(x_goal, lo, hi, out=x_goal)
         if not req.checker.state_ok(x_goal):
             why = self._why_invalid(req, x_goal)
