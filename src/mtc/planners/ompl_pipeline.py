@@ -16,11 +16,12 @@ How a request is answered (MoveIt's ``ompl_interface`` with its default request 
    fails with the colliding bodies or the violated constraint in the message.
 2. The goal is checked for collisions and path constraints (``GOAL_IN_COLLISION``,
    ``GOAL_VIOLATES_PATH_CONSTRAINTS``). A joint goal beyond its bounds is moved onto them with a
-   warning, as MoveIt's joint constraint does ("Assuming maximum bounds instead"). Pose goals are turned into goal states by inverse
-   kinematics (several distinct, valid solutions; the planner may reach any of them). A start
-   or goal that touches an obstacle (closer than :data:`CERTIFY_MIN_MARGIN`, so that no motion
-   from or to it can be proven free, see 4.) fails at once with ``START_STATE_IN_COLLISION`` or
-   ``GOAL_IN_COLLISION`` instead of at the timeout; pose goals skip such IK solutions.
+   warning, as MoveIt's joint constraint does ("Assuming maximum bounds instead"). Pose goals
+   are turned into goal states by inverse kinematics (several distinct, valid solutions; the
+   planner may reach any of them). A start or goal that touches an obstacle (closer than
+   :data:`CERTIFY_MIN_MARGIN`, so that no motion from or to it can be proven free, see 4.)
+   fails at once with ``START_STATE_IN_COLLISION`` or ``GOAL_IN_COLLISION`` instead of at the
+   timeout; pose goals skip such IK solutions.
 3. The straight joint-space segment is tried first; a free one is the answer.
 4. Otherwise OMPL's planner searches the group's joint space. Motions are validated by
    :class:`_EdgeChecker` in numpy batches: states interpolated along the edge, checked end
