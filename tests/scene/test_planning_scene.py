@@ -778,6 +778,10 @@ def test_attached_collision_object_append(scene):
     np.testing.assert_allclose(translation(np.linalg.solve(before, scene.get_frame_transform("tool/tip"))), [0.0, 0.0, 0.2], atol=1e-12)
     np.testing.assert_allclose(translation(np.linalg.solve(before, scene.get_frame_transform("tool/side"))), [0.01, 0.0, 0.0], atol=1e-12)
     assert att.touch_links == {"panda_leftfinger", "panda_rightfinger"} and att.detach_posture is posture
+    # the detach posture is part of the object's message, as MoveIt's attached body gives it back
+    for out in (scene.get_attached_collision_object_msg("tool"),
+                scene.get_planning_scene_msg().robot_state.attached_collision_objects[0]):
+        assert out.detach_posture == posture and out.detach_posture is not posture
     # a message pose places the merged object: the old shapes move with it
     moved = CollisionObject(id="tool", header=msgs.Header(frame_id="panda_hand"), operation=CollisionObject.APPEND,
                             pose=pose((0.0, 0.0, 0.3)), primitives=[primitive(SolidPrimitive.SPHERE, [0.01])])

@@ -10,6 +10,7 @@ or the ACM change, so a planner checking thousands of states of one scene pays f
 
 from __future__ import annotations
 
+import copy
 import logging
 import weakref
 from dataclasses import dataclass, field, replace
@@ -1680,7 +1681,8 @@ class PlanningScene:
     def get_attached_collision_object_msg(self, name: str) -> msgs.AttachedCollisionObject:
         att = self.get_attached_object(name)
         return msgs.AttachedCollisionObject(
-            link_name=att.link, object=self._object_msg(att.object, att.link), touch_links=sorted(att.touch_links)
+            link_name=att.link, object=self._object_msg(att.object, att.link), touch_links=sorted(att.touch_links),
+            detach_posture=copy.deepcopy(att.detach_posture) if att.detach_posture is not None else msgs.JointTrajectory(),
         )
 
     def get_robot_state_msg(self, state: RobotState | None = None) -> msgs.RobotState:
