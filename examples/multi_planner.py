@@ -2,9 +2,10 @@
 
 As MTC's ``demo/scripts/multi_planner.py``: a ``MultiPlanner`` that tries Pilz's PTP planner
 first and OMPL's RRTConnect second, used by two ``MoveTo`` stages in an ``Alternatives``
-container with the goals of ``alternatives.py``. Goal 2 is beyond panda_joint1's limit, so
-neither planner can reach it. Expected outcome: 1 solution, through
-"Move To Goal Configuration 1". Run: ``python examples/multi_planner.py [--view]``
+container with the goals of ``alternatives.py``. Goal 2 is beyond panda_joint1's limit: Pilz
+refuses it, and OMPL, as MoveIt's joint constraint, plans to the limit instead (with a warning
+"Assuming minimum bounds instead"). Expected outcome: 2 solutions, one per goal, goal 2's
+ending at the limit. Run: ``python examples/multi_planner.py [--view]``
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ def make_task() -> core.Task:
         "panda_joint7": 1.0,
     }
     goalConfig2 = {
-        "panda_joint1": -3.0,  # beyond the joint's limit (+-2.8973): this goal is invalid
+        "panda_joint1": -3.0,  # beyond the joint's limit (+-2.8973): planned to the limit
         "panda_joint2": -1.0,
         "panda_joint3": 0.0,
         "panda_joint4": -2.0,

@@ -214,13 +214,17 @@ def test_merger_moves_arm_and_hand_together():
     assert end["panda_joint2"] == pytest.approx(0.0, abs=1e-3)  # 'extended'
 
 
-def test_multi_planner_only_goal_1_succeeds():
-    """multi_planner.py: PTP/RRTConnect reach goal 1; goal 2 is out of limits."""
+def test_multi_planner_plans_the_goal_beyond_a_limit_to_the_limit():
+    """multi_planner.py: PTP reaches goal 1. Goal 2 lies beyond panda_joint1's limit: PTP
+    refuses it and RRTConnect, as MoveIt's joint constraint, plans to the limit."""
     task = run_example("multi_planner")
-    assert len(task.solutions) == 1
+    assert len(task.solutions) == 2
     alternatives = task["Alternatives"]
-    assert len(alternatives["Move To Goal Configuration 1"].solutions) == 1
-    assert len(alternatives["Move To Goal Configuration 2"].solutions) == 0
+    first, second = (alternatives[f"Move To Goal Configuration {k}"] for k in (1, 2))
+    assert len(first.solutions) == 1 and len(second.solutions) == 1
+    end = end_scene(second.solutions[0]).current_state
+    assert end.joint_positions["panda_joint1"] == pytest.approx(end.robot_model.lower_bounds[0], abs=1e-12)
+    assert end.joint_positions["panda_joint2"] == pytest.approx(-1.0, abs=1e-9)
 
 
 def test_compute_ik_connects_to_each_ik_solution():
