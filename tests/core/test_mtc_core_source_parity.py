@@ -401,6 +401,25 @@ def test_stage_ids_are_available_after_init_with_introspection():
     assert gen.introspection() is not None
 
 
+def test_stage_ids_stay_until_reset():
+    """introspection.cpp: a stage's id is made on its first query and kept until
+    Introspection::reset (Task::reset) clears the maps; Task::init only numbers stages that
+    have none. So a stage inserted between two plans gets the next id and the others keep
+    theirs, and after reset() the tree is numbered afresh in traverseRecursively order."""
+    t = _task(True)
+    gen = add(t, GeneratorMockup([1.0, 2.0]))
+    fwd = add(t, ForwardMockup([1.0, 2.0]))
+    t.init()
+    assert [s.introspectionId() for s in (t.stages, gen, fwd)] == [1, 2, 3]
+    fwd2 = ForwardMockup([1.0, 2.0])
+    t.insert(fwd2, 1)  # between gen and fwd
+    t.init()
+    assert [s.introspectionId() for s in (t.stages, gen, fwd2, fwd)] == [1, 2, 4, 3]
+    t.reset()
+    t.init()
+    assert [s.introspectionId() for s in (t.stages, gen, fwd2, fwd)] == [1, 2, 3, 4]
+
+
 def test_solution_ids_follow_registration_order():
     """stage.cpp StagePrivate::storeSolution registers every solution (failures too) with the
     introspection when it is stored (introspection.cpp Introspection::solutionId: 1 + number

@@ -49,7 +49,8 @@ class Introspection:
             self.update()
 
     def reset(self) -> None:
-        """Forget solution ids (after ``Task.reset()``)."""
+        """Forget stage and solution ids (after ``Task.reset()``, as MTC's ``resetMaps``)."""
+        self._stage_ids.clear()
         self._solution_ids.clear()
         self._solutions.clear()
         self.stages = []

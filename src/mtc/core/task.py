@@ -307,13 +307,13 @@ class Task(WrapperBase):
         intro = None
         if store:
             # as MTC's Task::init: every stage gets the task's introspection, which numbers the
-            # stages (the root 1, then depth first) and registers solutions as they are stored
+            # stages (the root 1, then depth first) and registers solutions as they are stored.
+            # A stage keeps its id until reset(): a stage added since gets the next one
             from mtc.core.introspection import Introspection
 
             if self._introspection_obj is None:
                 self._introspection_obj = Introspection(self)
             intro = self._introspection_obj
-            intro._stage_ids.clear()
             root.traverseRecursively(lambda stage, depth: intro.stageId(stage) > 0)
         for stage in self._allStages():
             stage._store_failures = store
