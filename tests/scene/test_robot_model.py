@@ -40,6 +40,11 @@ def test_panda_variables_in_pinocchio_order(panda):
 def test_panda_groups(panda):
     """panda_arm (chain link0 -> link8), hand (finger 1; finger 2 mimics it), panda_arm_hand = both."""
     assert panda.joint_model_group_names == ["panda_arm", "hand", "panda_arm_hand"]
+    assert [g.name for g in panda.joint_model_groups] == panda.joint_model_group_names
+    # moveit_py's keyword name
+    assert panda.get_joint_model_group(joint_model_group_name="hand").name == "hand"
+    assert panda.has_joint_model_group(joint_model_group_name="hand")
+    assert not panda.has_joint_model_group(joint_model_group_name="arm")
     arm = panda.get_joint_model_group("panda_arm")
     assert arm.name == "panda_arm"
     assert arm.active_joint_model_names == ARM_JOINTS

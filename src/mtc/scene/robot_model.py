@@ -21,6 +21,7 @@ import numpy as np
 import pinocchio as pin
 
 from mtc import msgs
+from mtc.scene._moveit_py import moveit_py_keywords
 from mtc.scene.srdf import SRDF, DescriptionError, GroupSpec, parse_srdf, parse_xml, read_xml_source
 
 log = logging.getLogger(__name__)
@@ -681,6 +682,11 @@ class RobotModel:
         return list(self._groups)
 
     @property
+    def joint_model_groups(self) -> list[JointModelGroup]:
+        """The SRDF's groups, in its order (moveit_py's ``joint_model_groups``)."""
+        return list(self._groups.values())
+
+    @property
     def end_effectors(self) -> list[str]:
         return list(self._end_effectors)
 
@@ -713,12 +719,14 @@ class RobotModel:
                 f"unknown joint '{name}' in robot '{self.name}' (joints: {', '.join(self.variable_names)})"
             ) from None
 
+    @moveit_py_keywords(joint_model_group_name="name")
     def has_joint_model_group(self, name: str) -> bool:
         return name in self._groups
 
     def has_link_model(self, name: str) -> bool:
         return name in self._link_has_geometry or name == self.model_frame
 
+    @moveit_py_keywords(joint_model_group_name="name")
     def get_joint_model_group(self, name: str | None) -> JointModelGroup:
         """The group called ``name`` (``None`` or "": all active variables of the robot).
 
