@@ -152,6 +152,7 @@ def test_allow_collisions_by_mtc_keywords(make_task):
     acm = end_scene(m).allowed_collision_matrix
     assert acm.get_default_entry("panda_link5") and acm.get_entry("panda_link1", "panda_hand")
     assert not acm.get_default_entry("panda_link1") and not acm.get_entry("panda_link2", "panda_hand")
+    assert not any(acm.get_default_entry(name) for name in ("a", "b", "c"))  # the refused calls
 
 
 def test_allow_collisions_with_an_empty_list_allows_all(make_task):
