@@ -33,18 +33,6 @@ def make_pose(x, y, z):
     return pose
 
 
-def make_box(name, pose, size):
-    """moveit_commander's PlanningSceneInterface.make_box: an ADD message of a box at ``pose``
-    (the object's pose; no primitive_poses, which MoveIt takes as identity)."""
-    return msgs.CollisionObject(
-        id=name,
-        header=pose.header,
-        pose=pose.pose,
-        primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=list(size))],
-        operation=msgs.CollisionObject.ADD,
-    )
-
-
 @pytest.fixture
 def psi():
     """TestModifyPlanningScene.setUp: a box to collide with in the current scene."""
@@ -109,9 +97,10 @@ def test_allow_collision_all(task, psi):
     psi.remove_world_object("block")
 
 
-def test_fw_add_object(task):
+def test_fw_add_object(task, psi):
     mps = stages.ModifyPlanningScene("addObject(block)")
-    mps.addObject(make_box("block", make_pose(0.3, 0.55, 0.6), [0.2, 0.2, 0.2]))
+    # (upstream, too, calls moveit_commander's private message maker by its mangled name)
+    mps.addObject(psi._PlanningSceneInterface__make_box("block", make_pose(0.3, 0.55, 0.6), [0.2, 0.2, 0.2]))
     task.add(mps)
     insert_move(task)
     assert not task.plan()
@@ -137,7 +126,7 @@ def test_bw_add_object(task, psi):
 
     # backward operation will actually remove the object
     mps = stages.ModifyPlanningScene("addObject(block) backwards")
-    mps.addObject(make_box("block", make_pose(0.3, 0.55, 0.6), [0.2, 0.2, 0.2]))
+    mps.addObject(psi._PlanningSceneInterface__make_box("block", make_pose(0.3, 0.55, 0.6), [0.2, 0.2, 0.2]))
     task.insert(mps, 0)
     insert_move(task, 0)
     assert task.plan()
