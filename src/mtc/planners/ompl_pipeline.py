@@ -1344,9 +1344,9 @@ class OMPLPipeline:
         lo, hi = self._group_bounds(model, jmg.variable_indices)
         slack = max(1e-9, float(tolerance))
         for k in np.nonzero((x_goal < lo - slack) | (x_goal > hi + slack))[0].tolist():
-            side = "below the minimum" if x_goal[k] < lo[k] else "above the maximum"
-            log.warning("%s: joint %s = %.6g is constrained to be %s bounds [%.6g, %.6g]. Assuming %s bounds "
-                        "instead.", what, jmg.variable_names[k], x_goal[k], side, lo[k], hi[k], side.split()[-1])
+            side, bound = ("below", "minimum") if x_goal[k] < lo[k] else ("above", "maximum")
+            log.warning("%s: joint %s = %.6g is constrained to be %s the %s bounds [%.6g, %.6g]. Assuming %s "
+                        "bounds instead.", what, jmg.variable_names[k], x_goal[k], side, bound, lo[k], hi[k], bound)
         np.clip(x_goal, lo, hi, out=x_goal)
         if not req.checker.state_ok(x_goal):
             why = self._why_invalid(req, x_goal)

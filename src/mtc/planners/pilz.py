@@ -285,9 +285,11 @@ class PilzPipeline:
         if not validity.collision_free(q):
             refused = error_message("START_STATE_IN_COLLISION", validity.collision_detail(q))
         else:
-            outside = _outside_bounds(self.robot_model, jmg, q)
-            refused = _scaling_failure(vs, acs) or (outside and error_message(
-                "INVALID_ROBOT_STATE", f"start state joints outside their position limits: {', '.join(outside)}")) or None
+            refused = _scaling_failure(vs, acs)
+            outside = None if refused else _outside_bounds(self.robot_model, jmg, q)
+            if outside:
+                refused = error_message("INVALID_ROBOT_STATE",
+                                        f"start state joints outside their position limits: {', '.join(outside)}")
         # (past Pilz's check the factors lie in (0.0001, 1]: as given)
         return planner_id, jmg, float(vs), float(acs), refused
 
