@@ -1386,15 +1386,13 @@ class PlanningScene:
         (which frames exist does not depend on the state's values), with its keyword names."""
         if robot_state is not None:
             args = (robot_state, *args)
-        if len(args) == 2 and frame is None:
-            state, frame = args
+        if len(args) == 2 or (len(args) == 1 and frame is not None):  # the state comes first
+            state, *args = args
             if not isinstance(state, RobotState):
                 raise TypeError(f"knows_frame_transform(robot_state, frame_id): robot_state must be a RobotState, "
                                 f"not {type(state).__name__}")
-        elif len(args) == 1 and frame is None:
+        if len(args) == 1 and frame is None:
             frame = args[0]
-        elif len(args) == 1 and isinstance(args[0], RobotState):
-            pass  # knows_frame_transform(robot_state, frame_id=...)
         elif args or frame is None:
             raise TypeError("knows_frame_transform takes (frame_id) or (robot_state, frame_id)")
         if plain_frame(frame) == "":  # (a TypeError for a non-str, as get_frame_transform's)
