@@ -82,9 +82,12 @@ def test_the_loser_stops_once_it_cannot_win(parallel):
     first.checks = 100
     won, end, checks = _race.race(first, second, 100, _deadline(), parallel=parallel)
     assert won == 1 and end[0] == "path of b" and checks == 400 + 300
-    assert first.halted
-    if not parallel:  # turn by turn: a stops at the first check past b's end
-        assert first.checks == 100 + 300 + 1
+    if parallel:
+        # a stops within a stretch (asked to halt) or between two (not stepped again): which of
+        # the two depends on when the child's end reaches it; either way long before its own end
+        assert first.checks < ENDLESS // 1000
+    else:  # turn by turn: a is halted at the first check past b's end
+        assert first.halted and first.checks == 100 + 300 + 1
     first, second = Search("a", found=400, turn=50), Search("b", fails=ENDLESS, turn=50)
     first.checks = 100
     won, end, checks = _race.race(first, second, 100, _deadline(), parallel=parallel)
