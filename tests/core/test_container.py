@@ -545,7 +545,7 @@ def test_timeout():
     resetMockupIds()
     t = core.Task()
     t.setRobotModel(toy_model())
-    timeout = 0.02
+    timeout = 0.05  # (as long as a step: a delay below this between steps cannot change the counts)
     t.add(GeneratorMockup(PredefinedCosts.constant(0.0)))
     t.add(TimedForwardMockup(timeout))
 
@@ -577,29 +577,29 @@ def test_preempt(t):
     gen1 = add(t, GeneratorMockup(PredefinedCosts.constant(0.0)))
     fwd1 = add(t, TimedForwardMockup(timeout))
     fwd2 = add(t, TimedForwardMockup(timeout))
-
-    # preempt before plan(): as MTC, the request is not reset at the start of plan()
     result = {}
 
-    def run():
-        time.sleep(timeout)
-        result["ec"] = t.plan(1)
+    def plan_in_thread():
+        thread = threading.Thread(target=lambda: result.__setitem__("ec", t.plan(1)))
+        thread.start()
+        return thread
 
-    thread = threading.Thread(target=run)
-    thread.start()
+    # preempt before plan(): as MTC, the request is not reset at the start of plan()
     t.preempt()
-    thread.join()
+    plan_in_thread().join()
     assert result["ec"] == core.MoveItErrorCode.PREEMPTED
     assert not result["ec"]
     assert len(t.solutions) == 0
     assert (gen1.runs, fwd1.runs, fwd2.runs) == (0, 0, 0)
     assert t.plan(1)  # the preempt request was reset when the previous plan() returned
 
-    # preempt during planning: GEN1 and FWD1 computed, FWD2 is never reached
+    # preempt during planning (while FWD1 computes): GEN1 and FWD1 computed, FWD2 never reached
     t.reset()
-    thread = threading.Thread(target=lambda: result.__setitem__("ec", t.plan(1)))
-    thread.start()
-    time.sleep(timeout / 2)
+    computing = threading.Event()
+    compute = fwd1.computeForward
+    fwd1.computeForward = lambda from_state: (computing.set(), compute(from_state))
+    thread = plan_in_thread()
+    assert computing.wait(10.0)
     t.preempt()
     thread.join()
     assert result["ec"] == core.MoveItErrorCode.PREEMPTED
