@@ -371,11 +371,6 @@ TURN_UNBOUNDED = 1e6
 TURN_PROPOSERS = 8
 
 
-def _rot_z(angle: float) -> np.ndarray:
-    c, s = np.cos(angle), np.sin(angle)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
 def collision_turn(shapes) -> np.ndarray | None:
     """The turn about the planning frame's z axis (a 4x4 transform) that brings the world's
     shapes closest to square with the axes, or None where no turn gains more than
@@ -416,7 +411,7 @@ def collision_turn(shapes) -> np.ndarray | None:
     angles = sorted(set(np.round(np.arctan2(axes[:, 1], axes[:, 0]) % (np.pi / 2), 9).tolist()) - {0.0})
     if not angles:
         return None
-    turns = np.array([_rot_z(-a) for a in [0.0, *angles]])
+    turns = np.array([msgs.axis_angle_matrix((0.0, 0.0, 1.0), -a) for a in [0.0, *angles]])
     # per turn and shape, the box of the shape's box turned: half extents |turn R| h
     A = np.abs(np.einsum("tij,njk->tnik", turns, Rs))
     extents = 2.0 * np.einsum("tnik,nk->tni", A, H) + 2.0 * TURN_PAD
