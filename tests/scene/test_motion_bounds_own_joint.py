@@ -13,7 +13,6 @@ def test_own_joint_bound_is_attained_by_a_small_rotation(scene):
     exactly ``rates`` (never more): the bound is the hull's distance from the axis."""
     checker = scene.motion_checker()
     env = scene._collision_env()
-    model = scene.robot_model
     pm, gm = env.pm, env.geom_model
     data, gd = pm.createData(), gm.createData()
     q = scene.current_state.positions.copy()
