@@ -1379,17 +1379,14 @@ class PlanningScene:
         name is no frame, as in MoveIt (:meth:`get_frame_transform` reads it as the planning
         frame, as headers do). As moveit_py, also ``knows_frame_transform(robot_state, frame_id)``
         (which frames exist does not depend on the state's values), with its keyword names."""
-        if robot_state is not None:
-            args = (robot_state, *args)
-        if len(args) == 2 or (len(args) == 1 and frame is not None):  # the state comes first
-            state, *args = args
-            if not isinstance(state, RobotState):
-                raise TypeError(f"knows_frame_transform(robot_state, frame_id): robot_state must be a RobotState, "
-                                f"not {type(state).__name__}")
-        if len(args) == 1 and frame is None:
-            frame = args[0]
-        elif args or frame is None:
+        # the arguments in moveit_py's order, however they were given: (robot_state,) frame_id
+        args = (*(() if robot_state is None else (robot_state,)), *args, *(() if frame is None else (frame,)))
+        if len(args) not in (1, 2):
             raise TypeError("knows_frame_transform takes (frame_id) or (robot_state, frame_id)")
+        if len(args) == 2 and not isinstance(args[0], RobotState):
+            raise TypeError(f"knows_frame_transform(robot_state, frame_id): robot_state must be a RobotState, "
+                            f"not {type(args[0]).__name__}")
+        frame = args[-1]
         if plain_frame(frame) == "":  # (a TypeError for a non-str, as get_frame_transform's)
             return False
         try:
