@@ -883,6 +883,25 @@ def test_planning_prints_nothing_and_leaks_nothing():
     assert proc.stdout == "" and proc.stderr == "", proc.stdout + proc.stderr
 
 
+def test_plans_at_once_in_threads_share_one_silence_and_restore_the_log_level():
+    """Two plans overlapping in time (as in two threads): OMPL stays silent until the later one
+    ends, and the user's log level comes back after it (not the silence the second saw)."""
+    import ompl.util as ou
+
+    before = ou.getLogLevel()
+    ou.setLogLevel(ou.LOG_WARN)
+    try:
+        first, second = op._quiet_ompl(), op._quiet_ompl()
+        first.__enter__()
+        second.__enter__()
+        first.__exit__(None, None, None)  # the first plan ends while the second still runs
+        assert ou.getLogLevel() == ou.LOG_NONE
+        second.__exit__(None, None, None)
+        assert ou.getLogLevel() == ou.LOG_WARN
+    finally:
+        ou.setLogLevel(before)
+
+
 def test_continuous_joints_start_at_the_start_values():
     """The toy robot's continuous joints: a start at 4 rad (beyond pi) begins the path at 4,
     and the goal is reached modulo a full turn."""

@@ -84,6 +84,7 @@ import copy
 import itertools
 import logging
 import math
+import threading
 import time
 from collections.abc import Callable
 from contextlib import contextmanager
@@ -348,15 +349,27 @@ def _out_of_checks(max_checks: int, planner: str) -> str:
     return f"PLANNING_FAILED: no solution found in {max_checks} state checks ({planner})"
 
 
+#: OMPL's log level is one setting for the process: plans running at once (in threads) share
+#: one silence, which the first to start begins and the last to end lifts
+_QUIET_LOCK = threading.Lock()
+_quiet = {"count": 0, "level": None}
+
+
 @contextmanager
 def _quiet_ompl():
     """Silence OMPL's console output (results are reported as data and through logging)."""
-    level = ou.getLogLevel()
-    ou.setLogLevel(ou.LOG_NONE)
+    with _QUIET_LOCK:
+        if _quiet["count"] == 0:
+            _quiet["level"] = ou.getLogLevel()
+            ou.setLogLevel(ou.LOG_NONE)
+        _quiet["count"] += 1
     try:
         yield
     finally:
-        ou.setLogLevel(level)
+        with _QUIET_LOCK:
+            _quiet["count"] -= 1
+            if _quiet["count"] == 0:
+                ou.setLogLevel(_quiet["level"])
 
 
 def _check_seed(seed) -> int:
