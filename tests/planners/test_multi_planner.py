@@ -7,7 +7,7 @@ import time
 import numpy as np
 import pytest
 
-from mtc.planners import JointInterpolationPlanner, MultiPlanner, PipelinePlanner, PlannerResult
+from mtc.planners import CartesianPath, JointInterpolationPlanner, MultiPlanner, PipelinePlanner, PlannerResult
 from mtc.planners.planner_interface import PlannerInterface
 
 
@@ -54,6 +54,9 @@ def test_list_interface():
         multi[-4]
     with pytest.raises(TypeError, match="MultiPlanner holds PlannerInterface objects, not str"):
         multi.add("ompl")
+    with pytest.raises(TypeError, match=r"not the class CartesianPath \(pass an instance: CartesianPath\(\)\)"):
+        multi.add(a, CartesianPath)
+    assert len(multi) == 3  # nothing of a refused call is added
     multi.clear()
     assert len(multi) == 0
 

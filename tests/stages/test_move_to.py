@@ -135,6 +135,19 @@ def test_planner_type_is_checked():
         stages.MoveTo("m", "ompl")
 
 
+@pytest.mark.parametrize("make", [
+    lambda: stages.MoveTo("m", core.JointInterpolationPlanner),
+    lambda: stages.MoveRelative("m", core.CartesianPath),
+    lambda: stages.Connect("m", [("panda_arm", core.PipelinePlanner)]),
+    lambda: stages.MoveTo("m", core.JointInterpolationPlanner()).setPlanner(core.PipelinePlanner),
+])
+def test_a_planner_class_without_parentheses_is_refused_at_once(make):
+    """A planner class (its methods look like a planner's) is refused where it is given, with
+    the fix, not at plan() with Python's complaint about init's missing argument."""
+    with pytest.raises(TypeError, match=r"got the class \w+ \(pass an instance: \w+\(\)\)"):
+        make()
+
+
 def test_missing_planner_is_an_init_error(make_task):
     """MoveTo without a planner fails at init, saying how to fix it."""
     m = stages.MoveTo()

@@ -7,7 +7,7 @@ import time
 import numpy as np
 
 from mtc import msgs
-from mtc.planners.planner_interface import PlannerInterface, PlannerResult
+from mtc.planners.planner_interface import PlannerInterface, PlannerResult, not_a_planner
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_model import RobotModel
 from mtc.scene.robot_trajectory import RobotTrajectory
@@ -38,7 +38,7 @@ class MultiPlanner(PlannerInterface):
         """
         for p in planners:
             if not isinstance(p, PlannerInterface):
-                raise TypeError(f"MultiPlanner holds PlannerInterface objects, not {type(p).__name__}")
+                raise TypeError(f"MultiPlanner holds PlannerInterface objects, not {not_a_planner(p)}")
             if p is self or (isinstance(p, MultiPlanner) and p._holds(self)):
                 raise ValueError("a MultiPlanner cannot hold itself")
         self._planners.extend(planners)

@@ -59,6 +59,14 @@ class PlannerResult:
         return bool(self.success)
 
 
+def not_a_planner(obj) -> str:
+    """What an error names for ``obj`` given where a planner is wanted: a planner class passed
+    without its parentheses (``core.JointInterpolationPlanner``) is told to pass an instance."""
+    if isinstance(obj, type):
+        return f"the class {obj.__name__} (pass an instance: {obj.__name__}())"
+    return type(obj).__name__
+
+
 def invalid_constraints(e: Exception) -> str:
     """The failure message of path constraints the robot or scene cannot evaluate (MoveIt's
     error code, as the OMPL and Pilz pipelines report it)."""

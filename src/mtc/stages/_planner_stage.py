@@ -12,7 +12,7 @@ from mtc.core.cost_terms import PathLength
 from mtc.core.properties import valid_message
 from mtc.core.stage import InitStageError, PropagatingEitherWay
 from mtc.core.storage import InterfaceState, SubTrajectory
-from mtc.planners.planner_interface import PlannerResult
+from mtc.planners.planner_interface import PlannerResult, not_a_planner
 from mtc.stages._common import ik_frame_from_args
 
 __all__ = [
@@ -54,10 +54,11 @@ def check_planner(stage, planner) -> None:
     """Raise ``TypeError`` unless ``planner`` looks like a PlannerInterface (or is None)."""
     if planner is None:
         return
-    if not (callable(getattr(planner, "plan", None)) and callable(getattr(planner, "init", None))):
+    looks_like_one = callable(getattr(planner, "plan", None)) and callable(getattr(planner, "init", None))
+    if isinstance(planner, type) or not looks_like_one:
         raise TypeError(
             f"{type(stage).__name__} '{stage.name}': planner must be a PlannerInterface "
-            f"(e.g. core.JointInterpolationPlanner()), got {type(planner).__name__}"
+            f"(e.g. core.JointInterpolationPlanner()), got {not_a_planner(planner)}"
         )
 
 
