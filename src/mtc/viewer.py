@@ -45,7 +45,7 @@ import pinocchio as pin
 
 from mtc import msgs
 from mtc.scene.planning_scene import MeshFile, PlanningScene, WorldObject
-from mtc.scene.robot_model import RobotModel
+from mtc.scene.robot_model import RobotModel, check_same_model
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
 
@@ -242,11 +242,7 @@ class _ObjectNodes:
 
 
 def _check_model(model: RobotModel, other: RobotModel, what: str) -> None:
-    if other is not model:
-        raise ValueError(
-            f"{what} belongs to robot '{other.name}', not to the viewer's robot '{model.name}' "
-            "(a viewer shows one robot model)"
-        )
+    check_same_model(model, other, what, "the viewer's")  # (a viewer shows one robot model)
 
 
 def _as_segments(item: Any) -> list[Segment]:

@@ -61,10 +61,40 @@ def test_current_state_is_live_and_assignable(scene, panda, toy):
     scene.current_state = other
     other.joint_positions = {"panda_joint1": 1.0}
     assert scene.current_state.positions[0] == 0.0
-    with pytest.raises(ValueError, match="different robot model"):
+    with pytest.raises(ValueError, match="current_state belongs to robot .robot., not to the scene.s robot .panda."):
         scene.current_state = RobotState(toy)
     with pytest.raises(TypeError, match="RobotState"):
         scene.current_state = [0.0] * 9
+
+
+def test_queries_refuse_a_state_of_another_robot(scene, panda, toy):
+    """Every query that takes a state names the robot it belongs to when it is not the scene's
+    (not Pinocchio's size error, and not a silent answer where there is nothing to measure)."""
+    foreign = RobotState(toy)
+    trajectory = RobotTrajectory(toy, "")
+    trajectory.add_suffix_waypoint(foreign, 0.0)
+    queries = {
+        "is_state_colliding": lambda: scene.is_state_colliding(foreign),
+        "is_state_valid": lambda: scene.is_state_valid(foreign),
+        "get_collisions": lambda: scene.get_collisions(foreign),
+        "distance_to_collision": lambda: scene.distance_to_collision(foreign),  # (no world: nothing to measure)
+        "collision_distances": lambda: scene.collision_distances(foreign, self_collision=True),
+        "is_state_constrained": lambda: scene.is_state_constrained(foreign, msgs.Constraints()),
+        "get_robot_state_msg": lambda: scene.get_robot_state_msg(foreign),
+        "knows_frame_transform": lambda: scene.knows_frame_transform(foreign, "panda_hand"),
+        "is_path_valid": lambda: scene.is_path_valid(trajectory),
+    }
+    for name, query in queries.items():
+        with pytest.raises(ValueError, match="belongs to robot 'robot', not to the scene's robot 'panda'"):
+            query()
+    # another load of the same robot is another model, and the message says so
+    from mtc.robots import PANDA_SRDF, panda_urdf_path
+    from mtc.scene.robot_model import RobotModel
+
+    again = RobotModel(panda_urdf_path(), PANDA_SRDF)
+    with pytest.raises(ValueError, match="robot 'panda' \\(another load of it"):
+        scene.is_state_colliding(RobotState(again))
+    assert not scene.is_state_colliding(RobotState(panda))
 
 
 @pytest.mark.parametrize("arm", ["ready", "extended", "transport"])

@@ -100,7 +100,7 @@ from mtc.planners._race import race
 from mtc.planners.constraints import ConstraintEvaluator, KinematicConstraintSet
 from mtc.planners.planner_interface import invalid_constraints
 from mtc.scene.planning_scene import PlanningScene
-from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta, wrap_angle
+from mtc.scene.robot_model import JointModelGroup, RobotModel, check_same_model, shortest_delta, wrap_angle
 from mtc.scene.robot_state import RobotState
 from mtc.scene.robot_trajectory import RobotTrajectory
 
@@ -1244,8 +1244,7 @@ class OMPLPipeline:
         if not isinstance(start, RobotState):
             raise TypeError(f"start must be a RobotState, not {type(start).__name__}")
         model: RobotModel = scene.robot_model
-        if start.robot_model is not model:
-            raise ValueError("the start state belongs to a different robot model than the scene")
+        check_same_model(model, start.robot_model, "the start state", "the scene's")
         jmg = model.get_joint_model_group(group)  # KeyError names the groups
         if jmg.variable_count == 0:
             raise ValueError(f"group '{jmg.name}' has no active variables to plan for")

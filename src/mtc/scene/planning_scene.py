@@ -22,7 +22,7 @@ import pinocchio as pin
 from mtc import msgs
 from mtc.scene._moveit_py import moveit_py_keywords
 from mtc.scene.collision_matrix import AllowedCollisionMatrix
-from mtc.scene.robot_model import DescriptionError, RobotModel
+from mtc.scene.robot_model import DescriptionError, RobotModel, check_same_model
 from mtc.scene.robot_state import RobotState, plain_frame
 
 log = logging.getLogger(__name__)
@@ -899,11 +899,7 @@ class PlanningScene:
 
     @current_state.setter
     def current_state(self, state: RobotState) -> None:
-        if not isinstance(state, RobotState):
-            raise TypeError(f"current_state must be a RobotState, not {type(state).__name__}")
-        if state.robot_model is not self._model:
-            raise ValueError("current_state belongs to a different robot model than the scene")
-        self._state = state.copy()
+        self._state = self._own(state, "current_state").copy()
 
     def set_current_state(self, state: RobotState) -> None:
         self.current_state = state
@@ -1386,6 +1382,8 @@ class PlanningScene:
         if len(args) == 2 and not isinstance(args[0], RobotState):
             raise TypeError(f"knows_frame_transform(robot_state, frame_id): robot_state must be a RobotState, "
                             f"not {type(args[0]).__name__}")
+        if len(args) == 2:
+            check_same_model(self._model, args[0].robot_model, "knows_frame_transform's robot_state", "the scene's")
         frame = args[-1]
         if plain_frame(frame) == "":  # (a TypeError for a non-str, as get_frame_transform's)
             return False
@@ -1403,12 +1401,17 @@ class PlanningScene:
             self._env_key = key
         return self._env
 
-    def _q(self, state: RobotState | None) -> np.ndarray:
+    def _own(self, state: RobotState | None, what: str = "state") -> RobotState:
+        """``state`` (None: the current state), checked to be a state of this scene's robot."""
         if state is None:
-            return self._state._q
+            return self._state
         if not isinstance(state, RobotState):
-            raise TypeError(f"state must be a RobotState, not {type(state).__name__}")
-        return state._q
+            raise TypeError(f"{what} must be a RobotState, not {type(state).__name__}")
+        check_same_model(self._model, state.robot_model, what, "the scene's")
+        return state
+
+    def _q(self, state: RobotState | None) -> np.ndarray:
+        return self._own(state)._q
 
     def _check_group(self, group: str | None) -> None:
         if group:
@@ -1451,8 +1454,7 @@ class PlanningScene:
         """Collision-free (for ``group``'s links), as MoveIt's ``isStateValid``: like it, this
         does not look at the joint bounds (:meth:`RobotState.satisfies_bounds` does)."""
         state, group, verbose = self._state_and_group(state, group, verbose)
-        st = self._state if state is None else state
-        return not self.is_state_colliding(st, group, verbose)
+        return not self.is_state_colliding(state, group, verbose)
 
     @moveit_py_keywords(robot_state="state")
     def is_state_constrained(self, state: RobotState, constraints: msgs.Constraints, verbose: bool = False) -> bool:
@@ -1470,8 +1472,9 @@ class PlanningScene:
         """
         from mtc.planners.constraints import KinematicConstraintSet
 
-        if not isinstance(state, RobotState):
-            raise TypeError(f"state must be a RobotState, not {type(state).__name__}")
+        if state is None:  # (the state is required here, as in moveit_py)
+            raise TypeError("state must be a RobotState, not NoneType")
+        state = self._own(state)
         cset = KinematicConstraintSet(self._model, constraints)
         if cset.satisfied(state, self):
             return True
@@ -1569,7 +1572,7 @@ class PlanningScene:
         model = self._model
         moved_links = set(model.descendant_link_names(link))
         ignored = set(model.links_moved_above(link))
-        st = self._state if state is None else state
+        st = self._own(state)
         delta = np.asarray(pose, dtype=float) @ np.linalg.inv(st.get_global_link_transform(link))
         env = self._collision_env()
         gd = env.query_data(st._q, np.ones(len(env.pairs), dtype=bool))
@@ -1607,11 +1610,12 @@ class PlanningScene:
         """Distance of each considered body pair (negative: penetrating), ascending. Each body
         pair is reported once, with the minimum over its shapes."""
         self._check_group(group)
+        q = self._q(state)
         env = self._collision_env()
         mask = env.pair_mask(group, world=world, self_collision=self_collision)
         if not mask.any():
             return []
-        gd = env.query_data(self._q(state), mask)
+        gd = env.query_data(q, mask)
         best: dict[tuple[str, str], float] = {}
         for k, (i, j) in enumerate(env.pairs):
             if not mask[k]:
@@ -1640,6 +1644,7 @@ class PlanningScene:
         waypoints = getattr(trajectory, "waypoints", None)
         if waypoints is None:
             raise TypeError(f"is_path_valid takes a RobotTrajectory, not {type(trajectory).__name__}")
+        check_same_model(self._model, trajectory.robot_model, "the trajectory", "the scene's")
         is_valid = self.state_validity_checker(group)
         for k, state in enumerate(waypoints):
             if not is_valid(state._q):
@@ -1676,7 +1681,7 @@ class PlanningScene:
         )
 
     def get_robot_state_msg(self, state: RobotState | None = None) -> msgs.RobotState:
-        st = self._state if state is None else state
+        st = self._own(state)
         return msgs.RobotState(
             joint_state=msgs.JointState(
                 header=msgs.Header(frame_id=self.planning_frame),

@@ -67,6 +67,14 @@ def unwrap_path(P: np.ndarray, continuous: np.ndarray) -> np.ndarray:
     return P
 
 
+def check_same_model(model: RobotModel, other: RobotModel, what: str, whose: str) -> None:
+    """Raise ``ValueError`` unless ``other`` is ``model`` itself: ``what`` (a state, scene or
+    trajectory) must belong to ``whose`` robot. Two loads of one URDF are two models."""
+    if other is not model:
+        again = " (another load of it: load the robot once and share the RobotModel)" if other.name == model.name else ""
+        raise ValueError(f"{what} belongs to robot '{other.name}'{again}, not to {whose} robot '{model.name}'")
+
+
 def default_package_dirs() -> list[str]:
     """Folders that hold ROS packages for ``package://`` URIs: the ``share`` folder of the
     ``example-robot-data`` install (cmeel layout) wherever it lies on ``sys.path``."""

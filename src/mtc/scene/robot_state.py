@@ -12,7 +12,7 @@ import pinocchio as pin
 
 from mtc import msgs
 from mtc.scene._moveit_py import moveit_py_keywords
-from mtc.scene.robot_model import JointModelGroup, RobotModel, shortest_delta, wrap_angle
+from mtc.scene.robot_model import JointModelGroup, RobotModel, check_same_model, shortest_delta, wrap_angle
 
 __all__ = ["RobotState", "as_rng"]
 
@@ -246,8 +246,7 @@ class RobotState:
     def _check_other(self, other, what: str) -> None:
         if not isinstance(other, RobotState):
             raise TypeError(f"{what}() takes another RobotState, not {type(other).__name__}")
-        if other._model is not self._model:
-            raise ValueError(f"{what}(): the other state belongs to robot '{other._model.name}', not '{self._model.name}'")
+        check_same_model(self._model, other._model, f"{what}(): the other state", "this state's")
 
     def interpolate(self, other: RobotState, t: float, group: str | None = None) -> RobotState:
         """The state ``t`` of the way from this one to ``other`` (continuous joints the short way)."""
