@@ -218,9 +218,12 @@ def test_scene_state_and_trajectory_arguments(ready_scene, panda):
     psi = mtc.PlanningSceneInterface()
     with pytest.raises(TypeError, match="object 'b': the dimensions .* must be numbers"):
         psi.add_box("b", msgs.PoseStamped(header=msgs.Header(frame_id="world")), size=0.1)
-    with pytest.raises(ValueError, match="object 'b': a box needs 3 positive dimension"):
+    with pytest.raises(TypeError, match=re_escape("collision object 'b': CollisionObject.primitives[0].dimensions[0] must be a number, got 'a'")):
         ready_scene.apply_collision_object(msgs.CollisionObject(
             id="b", primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=["a", 1, 1])]))
+    with pytest.raises(ValueError, match="object 'b': a box needs 3 positive dimension"):
+        ready_scene.apply_collision_object(msgs.CollisionObject(
+            id="b", primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.BOX, dimensions=[0.1, -1, 1])]))
     traj = RobotTrajectory(panda, "panda_arm")
     traj.add_suffix_waypoint(state)
     for dt in (-1.0, NAN):

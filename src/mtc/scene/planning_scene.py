@@ -152,10 +152,16 @@ def _mesh_geometry(mesh, object_id: str):
             raise DescriptionError(f"object '{object_id}': cannot read mesh file '{mesh.filename}': {e}") from e
     if not isinstance(mesh, msgs.Mesh):
         raise TypeError(f"object '{object_id}': meshes must be msgs.Mesh, not {type(mesh).__name__}")
+    for k, t in enumerate(mesh.triangles):
+        if len(t.vertex_indices) != 3:
+            raise ValueError(f"object '{object_id}': mesh triangle {k} has {len(t.vertex_indices)} vertex indices, not 3")
     vertices = np.array([[p.x, p.y, p.z] for p in mesh.vertices], dtype=float).reshape(-1, 3)
     triangles = np.array([t.vertex_indices for t in mesh.triangles], dtype=int).reshape(-1, 3)
     if len(vertices) < 3 or len(triangles) < 1:
         raise ValueError(f"object '{object_id}': a mesh needs at least 3 vertices and 1 triangle")
+    if not np.isfinite(vertices).all():
+        k = int(np.flatnonzero(~np.isfinite(vertices).all(axis=1))[0])
+        raise ValueError(f"object '{object_id}': mesh vertex {k} must be finite, got {vertices[k].tolist()}")
     if triangles.min() < 0 or triangles.max() >= len(vertices):
         raise ValueError(f"object '{object_id}': mesh triangle indices must lie in [0, {len(vertices) - 1}]")
     bvh = coal.BVHModelOBBRSS()
@@ -1101,6 +1107,8 @@ class PlanningScene:
             raise TypeError(f"color must be a msgs.ObjectColor (its id names the object), not {type(color).__name__}")
         if color is not None:
             _check_name(color.id, "ObjectColor id")
+        # field types (numbers are checked, with what they mean, where the shapes are made)
+        msgs.validate(msg, f"collision object '{msg.id}'", finite=False)
         self._apply_collision_object(msg)
         if color is not None:  # (as moveit_py: the colour is set for the colour message's id)
             self._colors[color.id] = replace(color.color)  # (a copy: the caller may reuse the message)
@@ -1266,6 +1274,7 @@ class PlanningScene:
         if none of that id is attached) or detach (REMOVE) as MoveIt does."""
         if not isinstance(msg, msgs.AttachedCollisionObject):
             raise TypeError(f"expected msgs.AttachedCollisionObject, not {type(msg).__name__}")
+        msgs.validate(msg, f"attached object '{getattr(msg.object, 'id', '')}'", finite=False)
         obj = msg.object
         if obj.operation == msgs.CollisionObject.REMOVE:
             if obj.id:
