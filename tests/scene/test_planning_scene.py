@@ -982,6 +982,33 @@ BAD_INPUT = {
     "cylinder-one-dim": (lambda s: s.apply_collision_object(obj("b", SolidPrimitive.CYLINDER, [0.1])), ValueError, ["'b'", "cylinder", "[height, radius]"]),
     "cone-zero": (lambda s: s.apply_collision_object(obj("b", SolidPrimitive.CONE, [0.1, 0.0])), ValueError, ["'b'", "cone", "positive"]),
     "box-nan": (lambda s: s.apply_collision_object(obj("b", SolidPrimitive.BOX, [0.1, float("nan"), 0.1])), ValueError, ["'b'", "box"]),
+    # fields of the wrong type are named by their path in the message
+    "header-str": (lambda s: s.apply_collision_object(CollisionObject(id="b", header="world", primitives=box("b", (0, 0, 0)).primitives)),
+                   TypeError, ["'b'", "CollisionObject.header", "msgs.Header"]),
+    "dimensions-scalar": (lambda s: s.apply_collision_object(CollisionObject(id="b", primitives=[SolidPrimitive(type=SolidPrimitive.SPHERE, dimensions=0.05)],
+                                                                             primitive_poses=[pose()])),
+                          TypeError, ["'b'", "primitives[0].dimensions", "list"]),
+    "primitives-none": (lambda s: s.apply_collision_object(CollisionObject(id="b", primitives=None)), TypeError, ["'b'", "primitives", "list"]),
+    "pose-as-list": (lambda s: s.apply_collision_object(CollisionObject(id="b", primitives=box("b", (0, 0, 0)).primitives,
+                                                                        primitive_poses=[[0, 0, 0]])),
+                     TypeError, ["'b'", "primitive_poses[0]", "msgs.Pose"]),
+    "attach-msg-touch-links-str": (
+        lambda s: s.apply_attached_collision_object(msgs.AttachedCollisionObject(link_name="panda_hand", object=box("new", (0, 0, 0)),
+                                                                                 touch_links="panda_leftfinger")),
+        TypeError, ["'new'", "touch_links", "list"],
+    ),
+    "mesh-triangle-two-indices": (
+        lambda s: s.apply_collision_object(CollisionObject(id="b", meshes=[msgs.Mesh(
+            triangles=[msgs.MeshTriangle(vertex_indices=[0, 1])], vertices=[msgs.Point(), msgs.Point(x=1.0), msgs.Point(y=1.0)])],
+            mesh_poses=[pose()])),
+        ValueError, ["'b'", "triangle 0", "2 vertex indices", "not 3"],
+    ),
+    "mesh-nan-vertex": (
+        lambda s: s.apply_collision_object(CollisionObject(id="b", meshes=[msgs.Mesh(
+            triangles=[msgs.MeshTriangle(vertex_indices=[0, 1, 2])], vertices=[msgs.Point(x=float("nan")), msgs.Point(x=1.0), msgs.Point(y=1.0)])],
+            mesh_poses=[pose()])),
+        ValueError, ["'b'", "vertex 0", "finite"],
+    ),
     "unknown-primitive": (lambda s: s.apply_collision_object(obj("b", 7, [0.1])), ValueError, ["'b'", "7", "BOX"]),
     "no-shapes": (lambda s: s.apply_collision_object(CollisionObject(id="b")), ValueError, ["'b'", "primitive or mesh"]),
     "pose-count": (
