@@ -159,6 +159,26 @@ def test_add_mesh_missing_file_changes_nothing(tmp_path):
     assert snapshot(current_scene()) == before
 
 
+@pytest.mark.parametrize("size, error, words", [
+    (0.001, TypeError, "must be 3 numbers, got 0.001"),
+    ((1.0, 1.0), ValueError, "must be 3 finite numbers > 0, got (1.0, 1.0)"),
+    ((1.0, -1.0, 1.0), ValueError, "must be 3 finite numbers > 0"),
+    ((0.0, 0.0, 0.0), ValueError, "must be 3 finite numbers > 0"),
+])
+def test_add_mesh_checks_its_scale_as_add_box_its_size(tmp_path, size, error, words):
+    """A mesh's size (its scale) is 3 finite numbers > 0: otherwise an error naming the object,
+    not a misleading "cannot read mesh file" or Python's "not iterable"; nothing is added."""
+    path = write_cube_stl(tmp_path / "cube.stl", 0.02)
+    psi = PlanningSceneInterface()
+    with pytest.raises(error, match=re.escape(f"object 'mesh': the mesh scale (size) {words}")):
+        psi.add_mesh("mesh", stamped((0.3, 0.0, 0.5)), path, size=size)
+    with pytest.raises(error, match=re.escape(f"object 'held': the mesh scale (size) {words}")):
+        psi.attach_mesh("panda_hand", "held", stamped((0.0, 0.0, 0.1)), path, size=size)
+    with pytest.raises(TypeError, match="object 'mesh': the mesh file name must be a path, got None"):
+        psi.add_mesh("mesh", stamped((0.3, 0.0, 0.5)), None)
+    assert current_scene().world_object_names == [] and current_scene().attached_object_names == []
+
+
 def test_bad_sizes_name_the_object_and_change_nothing():
     """Non-positive sizes raise ValueError naming the object; nothing is added."""
     psi = PlanningSceneInterface()
@@ -202,6 +222,28 @@ def test_attach_box_and_remove_attached_object():
     psi.remove_attached_object("panda_hand", "held")
     assert scene.attached_object_names == [] and scene.world_object_names == ["held"]
     np.testing.assert_allclose(scene.get_frame_transform("held"), moved, atol=1e-12)
+
+
+def test_names_are_one_name_a_list_or_none():
+    """touch_links and object_ids take one name, a list of names or None (attach_box's
+    touch_links=None: the link itself); anything else names the argument, and nothing changes."""
+    psi = PlanningSceneInterface()
+    psi.add_box("box", stamped((0.6, 0.0, 0.0)), size=(0.05, 0.05, 0.05))
+    psi.attach_box("panda_hand", "held", stamped((0.0, 0.0, 0.1), frame="panda_hand"), size=(0.02, 0.02, 0.02),
+                   touch_links=None)  # fmt: skip
+    scene = current_scene()
+    assert scene.get_attached_object("held").touch_links == {"panda_hand"}
+    assert list(psi.get_objects("box")) == ["box"]  # one name, not its letters
+    assert list(psi.get_attached_objects("held")) == ["held"]
+    assert list(psi.get_object_poses("box")) == ["box"]
+    before = snapshot(scene)
+    with pytest.raises(TypeError, match="touch_links must be a name or a list of names, got 5"):
+        scene.attach_object("box", "panda_hand", touch_links=5)
+    with pytest.raises(TypeError, match=re.escape("touch_links must be a name or a list of names, got 3 in ['panda_hand', 3]")):
+        scene.attach_object("box", "panda_hand", touch_links=["panda_hand", 3])
+    with pytest.raises(TypeError, match="object_ids must be a name or a list of names, got 7"):
+        psi.get_objects(7)
+    assert snapshot(scene) == before
 
 
 def test_attach_box_without_a_pose_attaches_the_existing_object():

@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import copy
 import logging
+import math
+import os
 import weakref
 from dataclasses import dataclass, field, replace
 
@@ -113,6 +115,26 @@ def _check_name(name, what="object id") -> str:
     return name
 
 
+def name_list(names, what: str) -> list[str]:
+    """Names given as one name, a list of them or None (none), as a list.
+
+    Raises:
+        TypeError: anything else, or an item that is not a str (``what`` names the argument).
+    """
+    if names is None:
+        return []
+    if isinstance(names, str):
+        return [names]
+    try:
+        out = list(names)
+    except TypeError:
+        raise TypeError(f"{what} must be a name or a list of names, got {names!r}") from None
+    for n in out:
+        if not isinstance(n, str):
+            raise TypeError(f"{what} must be a name or a list of names, got {n!r} in {names!r}")
+    return out
+
+
 def _primitive_geometry(prim: msgs.SolidPrimitive, object_id: str):
     if not isinstance(prim, msgs.SolidPrimitive):
         raise TypeError(f"object '{object_id}': primitives must be SolidPrimitive, not {type(prim).__name__}")
@@ -142,8 +164,6 @@ def _primitive_geometry(prim: msgs.SolidPrimitive, object_id: str):
 
 def _mesh_geometry(mesh, object_id: str):
     if isinstance(mesh, MeshFile):
-        import os
-
         if not os.path.isfile(mesh.filename):
             raise FileNotFoundError(f"object '{object_id}': mesh file '{mesh.filename}' not found")
         try:
@@ -173,8 +193,23 @@ def _mesh_geometry(mesh, object_id: str):
 
 
 def mesh_file_to_msg(filename: str, scale=(1.0, 1.0, 1.0), object_id: str | None = None) -> msgs.Mesh:
-    """Load a mesh file into a ``msgs.Mesh`` (vertices scaled); errors name ``object_id`` (default: the file)."""
-    bvh = _mesh_geometry(MeshFile(filename, tuple(scale)), filename if object_id is None else object_id)
+    """Load a mesh file into a ``msgs.Mesh`` (vertices scaled); errors name ``object_id`` (default: the file).
+
+    Raises:
+        TypeError: ``filename`` is not a path, or ``scale`` not three numbers.
+        ValueError: a scale that is not finite and > 0.
+        FileNotFoundError, DescriptionError: no such file, or one coal cannot read.
+    """
+    what = f"object '{filename if object_id is None else object_id}'"
+    if not isinstance(filename, (str, os.PathLike)):
+        raise TypeError(f"{what}: the mesh file name must be a path, got {filename!r}")
+    try:
+        factors = tuple(float(v) for v in scale)
+    except (TypeError, ValueError):
+        raise TypeError(f"{what}: the mesh scale (size) must be 3 numbers, got {scale!r}") from None
+    if len(factors) != 3 or not all(math.isfinite(v) and v > 0 for v in factors):
+        raise ValueError(f"{what}: the mesh scale (size) must be 3 finite numbers > 0, got {scale!r}")
+    bvh = _mesh_geometry(MeshFile(os.fspath(filename), factors), filename if object_id is None else object_id)
     vertices = np.asarray(bvh.vertices())
     triangles = [bvh.tri_indices(i) for i in range(bvh.num_tris)]
     return msgs.Mesh(
@@ -1241,11 +1276,7 @@ class PlanningScene:
         self._own_attached()[name] = attached
 
     def _touch_links(self, touch_links) -> frozenset:
-        if touch_links is None:
-            return frozenset()
-        if isinstance(touch_links, str):
-            touch_links = [touch_links]
-        touch = frozenset(touch_links)
+        touch = frozenset(name_list(touch_links, "touch_links"))
         for t in touch:
             self._model.frame_id(t)
         return touch
