@@ -429,6 +429,22 @@ def test_unknown_attribute_of_a_library_class_raises():
         core.Task().max_solutions = 3
 
 
+def test_a_property_declared_on_one_library_instance_leaves_typos_on_others_errors():
+    """setProperty on one of mtc's stages makes the name an attribute of that stage only: on
+    another instance of the class, setting it still raises (a typo there would set nothing)."""
+    from mtc import stages
+
+    a = stages.MoveTo("a", core.JointInterpolationPlanner())
+    b = stages.MoveTo("b", core.JointInterpolationPlanner())
+    a.setProperty("max_tries", 5)
+    assert a.max_tries == 5
+    with pytest.raises(AttributeError, match=r"'MoveTo' object has no attribute 'max_tries' \(its properties: "):
+        b.max_tries = 3
+    with pytest.raises(AttributeError, match="has no attribute 'max_tries'"):
+        b.max_tries  # noqa: B018
+    assert "max_tries" not in b.properties and "max_tries" not in vars(b)
+
+
 def test_user_subclasses_keep_attributes_of_their_own():
     """A Python subclass (as in MTC, whose Python subclasses have a __dict__) sets any attribute."""
 

@@ -804,13 +804,16 @@ class TypedPropertyAccess:
         ``AttributeError``, as MTC's bound C++ classes do (a typo such as
         ``stage.max_ik_solution = 8`` would otherwise set nothing)."""
         if name[0] != "_" and not hasattr(type(self), name):
-            props = self.__dict__.get("_properties")
-            known = sorted(props._props) if props is not None else []
-            raise AttributeError(
-                f"'{type(self).__name__}' object has no attribute '{name}'"
-                + (f" (its properties: {', '.join(n for n in known if n[0] != '_')})" if known else "")
-            )
+            raise self._no_attribute(name)
         object.__setattr__(self, name, value)
+
+    def _no_attribute(self, name: str) -> AttributeError:
+        props = self.__dict__.get("_properties")
+        known = sorted(props._props) if props is not None else []
+        return AttributeError(
+            f"'{type(self).__name__}' object has no attribute '{name}'"
+            + (f" (its properties: {', '.join(n for n in known if n[0] != '_')})" if known else "")
+        )
 
     def _newProperties(self) -> PropertyMap:
         """An empty property map whose declared names are attributes of this object."""
@@ -821,7 +824,9 @@ class TypedPropertyAccess:
 
 class _PropertyAttribute:
     """The attribute of a property name on a :class:`TypedPropertyAccess` class. Instances
-    that declare the property read and write it; others keep a plain attribute of that name."""
+    that declare the property read and write it. On mtc's own classes the others have no such
+    attribute (another instance's ``setProperty`` does not open the name to typos on all);
+    instances of a user's subclass keep a plain attribute of that name."""
 
     __slots__ = ("_name",)
 
@@ -848,6 +853,8 @@ class _PropertyAttribute:
         props = obj.__dict__.get("_properties")
         p = props._props.get(name) if props is not None else None
         if p is None:
+            if type(obj).__setattr__ is TypedPropertyAccess.__setattr__:
+                raise obj._no_attribute(name)
             obj.__dict__[name] = value
             return
         if value is None and p._type is not None:
