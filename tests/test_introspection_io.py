@@ -218,6 +218,14 @@ def test_bad_files(tmp_path):
     p.write_text("{not json")
     with pytest.raises(ValueError, match=r"bad\.json: not a JSON file"):
         load(p)
+    p.write_bytes(b"\x89PNG\r\n\x1a\n\xff\xfe")  # a binary file
+    with pytest.raises(ValueError, match=r"bad\.json: not a JSON file"):
+        load(p)
+    # a file descriptor number is not a path (open() would write into whatever file it is)
+    with pytest.raises(TypeError, match="save takes a file path \\(str or os.PathLike\\), not int"):
+        save({"stages": []}, 3)
+    with pytest.raises(TypeError, match="load takes a file path \\(str or os.PathLike\\), not int"):
+        load(3)
     p.write_text(json.dumps({"solutions": []}))
     with pytest.raises(ValueError, match=r"bad\.json: not mtc introspection data \(no 'stages' list\)"):
         load(p)

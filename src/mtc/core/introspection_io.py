@@ -277,7 +277,16 @@ def snapshot(task, introspection=None, contents: bool = True) -> dict[str, Any]:
     }
 
 
+def _file_path(path, what: str) -> str | os.PathLike:
+    """``path`` if it names a file (a str or path object; an int would be taken by ``open``
+    as an open file descriptor of the process)."""
+    if isinstance(path, (str, os.PathLike)):
+        return path
+    raise TypeError(f"{what} takes a file path (str or os.PathLike), not {type(path).__name__}")
+
+
 def _write(data: dict, path) -> None:
+    path = _file_path(path, "save")
     text = json.dumps(data, allow_nan=False, separators=(",", ":"))
     with open(path, "w", encoding="utf-8") as f:
         f.write(text)
@@ -302,10 +311,11 @@ def load(path: str | os.PathLike) -> "IntrospectionData":
         ValueError: The file is not JSON or not introspection data (the message names the
             file and what is wrong).
     """
+    path = _file_path(path, "load")
     try:
         with open(path, encoding="utf-8") as f:
             data = json.load(f)
-    except json.JSONDecodeError as e:
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
         raise ValueError(f"{path}: not a JSON file ({e})") from None
     return IntrospectionData.from_dict(data, where=str(path))
 
