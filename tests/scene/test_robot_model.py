@@ -476,6 +476,52 @@ def test_non_numeric_joint_values_name_file_joint_and_value(tmp_path, joint_body
         assert word in msg, (word, msg)
 
 
+@pytest.mark.parametrize(
+    "joint_body, link_c, words",
+    [
+        ('<limit lower="1" upper="-1" velocity="1" effort="1"/>', "", ["'j1'", "lower='1' is above upper='-1'"]),
+        ('<limit lower="-1" upper="1" velocity="-1" effort="1"/>', "", ["'j1'", "velocity='-1' is negative"]),
+        ('<limit lower="-1" upper="1" velocity="1" effort="-2"/>', "", ["'j1'", "effort='-2' is negative"]),
+        ('<axis xyz="0 0 0"/><limit lower="-1" upper="1" velocity="1" effort="1"/>', "", ["'j1'", "xyz='0 0 0' is no direction"]),
+        ('<limit lower="-1" upper="1" velocity="1" effort="1"/><mimic joint="j1"/>', "", ["'j1' mimics itself"]),
+        ('<limit lower="-1" upper="1" velocity="1" effort="1"/>',
+         '<collision><geometry><box size="-1 1 1"/></geometry></collision>', ["link 'c'", "size='-1 1 1' is negative"]),
+    ],
+    ids=["lower-above-upper", "negative-velocity", "negative-effort", "zero-axis", "mimics-itself", "negative-box"],
+)
+def test_values_that_make_no_robot_name_file_item_and_value(tmp_path, joint_body, link_c, words):
+    """Numbers that parse but make no robot are refused where Pinocchio would take them (or
+    fail without saying where): the message names the file, the joint or link and the value."""
+    body = (
+        LINK.format("a") + LINK.format("b") + f'<link name="c">{link_c}</link>'
+        + '<joint name="j0" type="revolute"><parent link="a"/><child link="b"/>'
+        '<limit lower="-1" upper="1" velocity="1" effort="1"/></joint>'
+        + f'<joint name="j1" type="revolute"><parent link="b"/><child link="c"/>{joint_body}</joint>'
+    )  # fmt: skip
+    path = write(tmp_path, "values.urdf", urdf(body))
+    with pytest.raises(DescriptionError) as e:
+        RobotModel(path)
+    msg = str(e.value)
+    assert "values.urdf" in msg
+    for word in words:
+        assert word in msg, (word, msg)
+
+
+def test_loader_arguments_of_the_wrong_kind_are_named(tmp_path):
+    """package_dirs and joint_limits of the wrong kind are named, not Python's own complaint."""
+    path = write(tmp_path, "ok.urdf", urdf(LINK.format("a")))
+    with pytest.raises(TypeError, match="package_dirs must be a folder or a list of folders, got 3"):
+        RobotModel(path, package_dirs=3)
+    with pytest.raises(TypeError, match="joint_limits must be a dict .* got list"):
+        RobotModel(path, joint_limits=[{"max_velocity": 1.0}])
+    assert RobotModel(path, package_dirs=[tmp_path]).name  # a path object is a folder
+
+
+def test_srdf_group_defined_twice():
+    with pytest.raises(DescriptionError, match="group 'g' is defined twice"):
+        parse_srdf('<robot name="r"><group name="g"><joint name="a"/></group><group name="g"><joint name="b"/></group></robot>')
+
+
 def test_malformed_origin_names_the_joint(tmp_path):
     """A malformed origin is reported through Pinocchio's parser, naming the file and the joint."""
     body = LINK.format("a") + LINK.format("b") + GOOD_JOINT.replace('<axis', '<origin xyz="0 zero 0"/><axis')

@@ -105,7 +105,9 @@ def _numbers(elem: ET.Element, attr: str, count: int, context: str) -> list[floa
 
 def _check_urdf_numbers(root: ET.Element, label: str) -> None:
     """Check every numeric attribute Pinocchio will read, so its parser only sees numbers
-    (its own errors do not say where the problem is)."""
+    (its own errors do not say where the problem is), and the values that make no robot: a
+    negative shape size, limit, velocity or effort, a lower limit above the upper one, a
+    zero joint axis, a joint that mimics itself."""
     shape_attrs = {"box": [("size", 3)], "sphere": [("radius", 1)], "cylinder": [("radius", 1), ("length", 1)],
                    "mesh": [("scale", 3)]}
     for link in root.findall("link"):
@@ -117,23 +119,37 @@ def _check_urdf_numbers(root: ET.Element, label: str) -> None:
             for geometry in part.findall("geometry"):
                 for shape in geometry:
                     for attr, count in shape_attrs.get(shape.tag, []):
-                        _numbers(shape, attr, count, context)
+                        values = _numbers(shape, attr, count, context)
+                        if shape.tag != "mesh" and values is not None and min(values) < 0:  # (a mesh may mirror)
+                            raise DescriptionError(f"{context}: <{shape.tag}> {attr}='{shape.get(attr)}' is negative")
     for joint in root.findall("joint"):
-        context = f"{label}: joint '{joint.get('name')}'"
+        name = joint.get("name")
+        context = f"{label}: joint '{name}'"
         for origin in joint.findall("origin"):
             _numbers(origin, "xyz", 3, context)
             _numbers(origin, "rpy", 3, context)
         for axis in joint.findall("axis"):
-            _numbers(axis, "xyz", 3, context)
+            xyz = _numbers(axis, "xyz", 3, context)
+            if xyz is not None and not any(xyz) and joint.get("type") != "fixed":
+                raise DescriptionError(f"{context}: <axis> xyz='{axis.get('xyz')}' is no direction")
         for limit in joint.findall("limit"):
-            for attr in ("lower", "upper", "velocity", "effort"):
-                _numbers(limit, attr, 1, context)
+            lower, upper, velocity, effort = (_numbers(limit, attr, 1, context)
+                                              for attr in ("lower", "upper", "velocity", "effort"))
+            for attr, value in (("velocity", velocity), ("effort", effort)):
+                if value is not None and value[0] < 0:
+                    raise DescriptionError(f"{context}: <limit> {attr}='{limit.get(attr)}' is negative")
+            if lower is not None and upper is not None and lower[0] > upper[0]:
+                raise DescriptionError(
+                    f"{context}: <limit> lower='{limit.get('lower')}' is above upper='{limit.get('upper')}'"
+                )
         for safety in joint.findall("safety_controller"):
             for attr in ("soft_lower_limit", "soft_upper_limit"):
                 _numbers(safety, attr, 1, context)
         for mimic in joint.findall("mimic"):
             for attr in ("multiplier", "offset"):
                 _numbers(mimic, attr, 1, context)
+            if mimic.get("joint") == name:
+                raise DescriptionError(f"{context} mimics itself")
 
 
 @dataclass
@@ -236,7 +252,16 @@ class RobotModel:
     ):
         if isinstance(package_dirs, (str, os.PathLike)):
             package_dirs = [os.fspath(package_dirs)]
-        self.package_dirs = [*(package_dirs or []), *default_package_dirs()]
+        if package_dirs is not None and not (
+            isinstance(package_dirs, (list, tuple)) and all(isinstance(d, (str, os.PathLike)) for d in package_dirs)
+        ):
+            raise TypeError(f"package_dirs must be a folder or a list of folders, got {package_dirs!r}")
+        if joint_limits is not None and not isinstance(joint_limits, dict):
+            raise TypeError(
+                "joint_limits must be a dict {joint: {'max_velocity': v, 'max_acceleration': a}} "
+                f"(or MoveIt's joint_limits.yaml as a dict), got {type(joint_limits).__name__}"
+            )
+        self.package_dirs = [*(os.fspath(d) for d in package_dirs or []), *default_package_dirs()]
         urdf_text, urdf_label = read_xml_source(urdf, "URDF")
         self._urdf_label = urdf_label
         if isinstance(urdf, os.PathLike) or (isinstance(urdf, str) and not urdf.lstrip().startswith("<")):

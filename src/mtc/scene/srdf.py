@@ -138,6 +138,8 @@ def parse_srdf(source: str) -> SRDF:
                     group.chains.append((_attr(sub, "base_link", label), _attr(sub, "tip_link", label)))
                 elif sub.tag == "group":
                     group.subgroups.append(_attr(sub, "name", label))
+            if any(g.name == group.name for g in srdf.groups):
+                raise DescriptionError(f"{label}: group '{group.name}' is defined twice")
             srdf.groups.append(group)
         elif tag == "group_state":
             if not elem.get("group"):
