@@ -363,6 +363,9 @@ def test_jacobian_reference_point(state):
     J = state.get_jacobian("panda_arm", "panda_hand", reference_point=point)
     np.testing.assert_allclose(J, _numeric_jacobian(state, "panda_arm", "panda_hand", point=point), atol=2e-5)
     np.testing.assert_allclose(J, state.get_jacobian("panda_arm", "panda_hand_tcp"), atol=1e-9)
+    for bad in ([0.1, 0.0], "abc", [0.0, np.nan, 0.0]):
+        with pytest.raises(ValueError, match="the reference point must be 3 finite numbers"):
+            state.get_jacobian("panda_arm", "panda_hand", reference_point=bad)
 
 
 def test_jacobian_of_the_toy_robot(toy):
@@ -423,6 +426,10 @@ def test_interpolate(toy, state):
     q = state.interpolate(other, 0.25)
     assert q.positions[0] == pytest.approx(0.25)
     assert q.positions[7] == q.positions[8] == pytest.approx(0.035 * 0.75)
+    with pytest.raises(ValueError, match="t must be finite, got nan"):
+        state.interpolate(other, float("nan"))
+    with pytest.raises(TypeError, match="t must be a number"):
+        state.interpolate(other, "0.5")
 
 
 def test_copy_is_independent(state):

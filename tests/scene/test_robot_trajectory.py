@@ -185,6 +185,8 @@ def test_times_setter(panda, start):
         traj.times = [0.0, 1.0]
     with pytest.raises(ValueError, match="not decrease"):
         traj.times = [0.0, 0.5, 0.2]
+    with pytest.raises(ValueError, match="times must be finite numbers of seconds"):
+        traj.times = [0.0, float("nan"), 0.2]
     np.testing.assert_allclose(traj.times, [0.0, 0.1, 0.4])
 
 
@@ -202,6 +204,22 @@ def test_from_positions_needs_a_time_per_row(panda, start):
     rows = np.tile(start.positions[:7], (3, 1))
     with pytest.raises(ValueError, match="times must have 3 values"):
         RobotTrajectory.from_positions(panda, "panda_arm", start, rows, times=[0.0, 1.0])
+
+
+def test_from_positions_needs_a_finite_row_per_waypoint(panda, start):
+    """One row of the group's variables per waypoint, finite: a single 7-vector is not seven
+    waypoints, and a NaN makes no state."""
+    make = RobotTrajectory.from_positions
+    with pytest.raises(ValueError, match=r"one row of 7 values per waypoint \(N x 7\), got shape \(7,\)"):
+        make(panda, "panda_arm", start, start.positions[:7])
+    with pytest.raises(ValueError, match=r"got shape \(3, 5\)"):
+        make(panda, "panda_arm", start, np.zeros((3, 5)))
+    rows = np.tile(start.positions[:7], (2, 1))
+    rows[1, 3] = np.nan
+    with pytest.raises(ValueError, match="positions must be finite, got a NaN or infinity in row 1"):
+        make(panda, "panda_arm", start, rows)
+    with pytest.raises(ValueError, match="times must be finite"):
+        make(panda, "panda_arm", start, rows[:1].repeat(2, axis=0), times=[0.0, np.inf])
 
 
 def test_msg(panda, start):
@@ -365,6 +383,10 @@ def test_set_robot_trajectory_msg_round_trip(panda, start):
                 msgs.JointTrajectoryPoint(positions=[0.2], time_from_start=0.5)]))
     with pytest.raises(ValueError, match="time_from_start"):
         other.set_robot_trajectory_msg(start, backwards)
+    not_a_number = msgs.RobotTrajectory(joint_trajectory=msgs.JointTrajectory(
+        joint_names=["panda_joint2"], points=[msgs.JointTrajectoryPoint(positions=[float("nan")])]))
+    with pytest.raises(ValueError, match="point 0 has positions that are not finite"):
+        other.set_robot_trajectory_msg(start, not_a_number)
     np.testing.assert_array_equal(other.positions, before)
 
 

@@ -7,6 +7,9 @@ which keeps copying a state cheap).
 
 from __future__ import annotations
 
+import math
+import numbers
+
 import numpy as np
 import pinocchio as pin
 
@@ -251,6 +254,10 @@ class RobotState:
     def interpolate(self, other: RobotState, t: float, group: str | None = None) -> RobotState:
         """The state ``t`` of the way from this one to ``other`` (continuous joints the short way)."""
         self._check_other(other, "interpolate")
+        if isinstance(t, bool) or not isinstance(t, numbers.Real):
+            raise TypeError(f"interpolate(): t must be a number (0: this state, 1: the other), got {t!r}")
+        if not math.isfinite(t):
+            raise ValueError(f"interpolate(): t must be finite, got {t!r}")
         delta = shortest_delta(other._q - self._q, self._model.continuous_mask)
         q = self._q + t * delta
         if group:
@@ -395,7 +402,13 @@ class RobotState:
         J = J[:, jmg.variable_indices]
         if reference_point is not None:
             # velocity of a point offset (in the link frame) from the link origin: v + w x r
-            r = data.oMf[fid].rotation @ np.asarray(reference_point, dtype=float)
+            try:
+                point = np.asarray(reference_point, dtype=float)
+            except (TypeError, ValueError):
+                point = np.full(0, np.nan)
+            if point.shape != (3,) or not np.isfinite(point).all():
+                raise ValueError(f"get_jacobian: the reference point must be 3 finite numbers (in the link frame), got {reference_point!r}")
+            r = data.oMf[fid].rotation @ point
             J = J.copy()
             J[:3] -= np.cross(r, J[3:].T).T
         return J

@@ -34,6 +34,11 @@ def _check_dt(dt) -> float:
     return value
 
 
+def _check_times(times: np.ndarray) -> None:
+    if not np.isfinite(times).all():
+        raise ValueError(f"times must be finite numbers of seconds, got {times.tolist()}")
+
+
 class RobotTrajectory:
     """A sequence of robot states with times from start.
 
@@ -81,7 +86,19 @@ class RobotTrajectory:
 
     def _set_rows(self, reference: RobotState, cols, rows: np.ndarray, times: np.ndarray) -> None:
         """Waypoints: ``reference`` with the variables ``cols`` set to each row of ``rows``, at
-        ``times`` from start (no velocities or efforts yet)."""
+        ``times`` from start (no velocities or efforts yet).
+
+        Raises:
+            ValueError: ``rows`` is not one row of ``len(cols)`` values per waypoint, or holds
+                a NaN or infinity; so do ``times``.
+        """
+        if rows.ndim != 2 or rows.shape[1] != len(cols):
+            raise ValueError(
+                f"positions must be one row of {len(cols)} values per waypoint (N x {len(cols)}), got shape {rows.shape}"
+            )
+        if not np.isfinite(rows).all():
+            raise ValueError(f"positions must be finite, got a NaN or infinity in row {int(np.flatnonzero(~np.isfinite(rows).all(axis=1))[0])}")
+        _check_times(times)
         # one matrix of full variable vectors, mimic joints set in one go; each waypoint
         # owns a row of it
         full = np.repeat(reference.positions[None, :], len(rows), axis=0)
@@ -151,6 +168,7 @@ class RobotTrajectory:
         values = np.asarray(values, dtype=float)
         if values.shape != (len(self.waypoints),):
             raise ValueError(f"times must have {len(self.waypoints)} values, got shape {values.shape}")
+        _check_times(values)
         if np.any(np.diff(values) < 0):
             raise ValueError("times must not decrease")
         self._durations = np.diff(values, prepend=0.0).tolist()
@@ -377,6 +395,8 @@ class RobotTrajectory:
             if len(point.positions) != len(names):
                 raise ValueError(f"point {i} has {len(point.positions)} positions for {len(names)} joints")
             P[i] = point.positions
+            if not np.isfinite(P[i]).all():
+                raise ValueError(f"point {i} has positions that are not finite: {list(point.positions)}")
         times = np.array([float(p.time_from_start) for p in points])
         if np.any(np.diff(times, prepend=0.0) < 0):
             raise ValueError("the points' time_from_start must not decrease (nor be negative)")
