@@ -404,3 +404,33 @@ def test_a_start_tolerance_of_zero_turns_the_check_off(make_task):
     moved.joint_positions = {"panda_joint1": 0.5}
     assert not execute(task.solutions[0])  # 0.01 by default: refused
     assert execute(task.solutions[0], start_tolerance=0)
+
+
+def test_arguments_of_the_wrong_kind_are_named_not_left_to_python():
+    """Misused arguments of the public API say what was wrong and what is allowed, instead of
+    an error from inside (AttributeError on write, a numpy ufunc error, a bare index error)."""
+    import io
+
+    panda = mtc.robots.panda()
+    state = RobotState(panda)
+    cases = [
+        (lambda: core.Task(3), TypeError, "Task ns (its namespace) must be a str, got 3"),
+        (lambda: core.Task().explainFailure(3), TypeError, "explainFailure() writes to a text stream"),
+        (lambda: core.Task().printState(3), TypeError, "printState() writes to a text stream"),
+        (lambda: state.set_from_ik("panda_arm", msgs.Pose(), timeout="1"), TypeError,
+         "IK timeout must be a number of seconds or None, got '1'"),
+        (lambda: state.satisfies_bounds(margin="x"), TypeError, "margin must be a number, got 'x'"),
+        (lambda: state.set_to_random_positions(rng=-1), ValueError, "rng seed must be an int >= 0, got -1"),
+        (lambda: setattr(state, "positions", "abc"), TypeError, "positions must be 9 numbers"),
+        (lambda: core.PropertyMap().exposeTo(3, ["group"]), TypeError, "exposeTo() exposes to another PropertyMap"),
+        (lambda: RobotTrajectory(panda, "panda_arm")[10], IndexError,
+         "waypoint index 10 out of range for a trajectory of 0 waypoints"),
+    ]
+    before = state.positions.copy()
+    for call, error, text in cases:
+        with pytest.raises(error, match=re_escape(text)):
+            call()
+    assert np.array_equal(state.positions, before)
+    out = io.StringIO()
+    core.Task().printState(out)  # a text stream is still fine
+    assert out.getvalue()

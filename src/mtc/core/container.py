@@ -16,7 +16,6 @@ walks along solutions and across this map.
 from __future__ import annotations
 
 import logging
-import sys
 from bisect import bisect_right
 from collections.abc import Callable
 
@@ -511,7 +510,9 @@ class ContainerBase(Stage):
         (semantics §1.7): children with solutions are skipped, a child with failures gets the
         line ``"<name> (0/<failures>): <comment>"`` and ends the search, other children are
         searched in turn (the first that explains ends it)."""
-        out = sys.stdout if file is None else file
+        from mtc.core.introspection import text_stream
+
+        out = text_stream(file, "explainFailure")
         for child in self._children:
             if child._solutions:
                 continue  # this child produced solutions: look no deeper
@@ -530,7 +531,7 @@ class ContainerBase(Stage):
         """One line per stage of this subtree (see :meth:`mtc.core.Task.printState`)."""
         from mtc.core.introspection import print_state
 
-        print_state(self, sys.stdout if file is None else file)
+        print_state(self, file)
 
 
 class SerialContainer(ContainerBase):

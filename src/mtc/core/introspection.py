@@ -10,12 +10,22 @@ from __future__ import annotations
 import sys
 from typing import Any
 
-__all__ = ["Introspection", "print_state"]
+__all__ = ["Introspection", "print_state", "text_stream"]
+
+
+def text_stream(file, what: str):
+    """Where a report goes: ``file`` (anything with a ``write`` method), or standard output."""
+    if file is None:
+        return sys.stdout
+    if not callable(getattr(file, "write", None)):
+        raise TypeError(f"{what}() writes to a text stream (an object with write(), e.g. io.StringIO() "
+                        f"or an open file), not {type(file).__name__}")
+    return file
 
 
 def print_state(container, file=None) -> None:
     """Write one line per stage of ``container``'s subtree, indented by depth (MTC's printState)."""
-    out = sys.stdout if file is None else file
+    out = text_stream(file, "printState")
 
     def line(stage, depth):
         out.write("  " * depth + stage._stateLine() + "\n")

@@ -707,6 +707,8 @@ class PropertyMap:
                 for a list; both keywords are taken).
             other_name: Name in ``other`` (only with a single name).
         """
+        if not isinstance(other, PropertyMap):
+            raise TypeError(f"exposeTo() exposes to another PropertyMap (e.g. stage.properties), not {type(other).__name__}")
         if (names is None) == (name is None):
             raise TypeError("exposeTo() takes the property name(s) once: exposeTo(other, name_or_names)")
         if name is not None:

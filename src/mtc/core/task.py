@@ -99,6 +99,8 @@ class Task(WrapperBase):
     """
 
     def __init__(self, ns: str = "", introspection: bool = True, container: ContainerBase | None = None):
+        if not isinstance(ns, str):
+            raise TypeError(f"Task ns (its namespace) must be a str, got {ns!r}")
         if container is None:
             container = SerialContainer("task pipeline")
         elif not isinstance(container, ContainerBase):
@@ -397,7 +399,7 @@ class Task(WrapperBase):
         """
         from mtc.core.introspection import print_state
 
-        print_state(self._children[0], sys.stdout if file is None else file)
+        print_state(self._children[0], file)
 
     def __str__(self) -> str:
         """The stage tree as :meth:`printState` prints it (MTC's ``operator<<`` of a Task)."""
@@ -415,7 +417,9 @@ class Task(WrapperBase):
         task's timeout, ``preempt()``); else the first stage without solutions that says why it
         never ran (a ``FixedState`` without a scene, a monitoring generator whose monitored stage
         has no solutions)."""
-        out = sys.stdout if file is None else file
+        from mtc.core.introspection import text_stream
+
+        out = text_stream(file, "explainFailure")
         out.write("Failing stage(s):\n")
         root = self._children[0]
         if root.explainFailure(out):

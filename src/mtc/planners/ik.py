@@ -378,6 +378,7 @@ def solve_ik(
     Returns:
         New robot states, possibly none.
     """
+    _check_timeout(timeout)
     target = as_pose_matrix(pose, state)
     link, tip_offset = resolve_tip(state, group, tip)
     total = tip_offset if offset is None else tip_offset @ np.asarray(offset, dtype=float)
@@ -404,6 +405,15 @@ def solve_ik(
     return [make_state(q) for q in solutions]
 
 
+def _check_timeout(timeout) -> None:
+    if timeout is None:
+        return
+    if not msgs.is_number(timeout):
+        raise TypeError(f"IK timeout must be a number of seconds or None, got {timeout!r}")
+    if math.isnan(timeout):
+        raise ValueError("IK timeout must be a number of seconds, got nan")
+
+
 def set_from_ik(
     state: RobotState,
     group: str,
@@ -422,6 +432,7 @@ def set_from_ik(
     Returns:
         True on success; on failure the state is unchanged.
     """
+    _check_timeout(timeout)
     if timeout is not None and timeout <= 0.0:
         timeout = None
     solutions = solve_ik(state, group, pose, tip, timeout, offset, is_valid, rng, max_solutions=1, **kwargs)

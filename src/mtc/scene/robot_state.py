@@ -26,7 +26,9 @@ def as_rng(rng: np.random.Generator | int | None) -> np.random.Generator:
         return rng
     if rng is None:
         return np.random.default_rng(0)
-    if isinstance(rng, (int, np.integer)):
+    if isinstance(rng, (int, np.integer)) and not isinstance(rng, bool):
+        if rng < 0:
+            raise ValueError(f"rng seed must be an int >= 0, got {rng}")
         return np.random.default_rng(int(rng))
     raise TypeError(f"rng must be a numpy Generator, an int seed or None, not {type(rng).__name__}")
 
@@ -37,7 +39,12 @@ def _checked_positions(model: RobotModel, values) -> np.ndarray:
     Raises:
         ValueError: the wrong number of values, or values that are not finite.
     """
-    q = np.array(values, dtype=float)
+    try:
+        q = np.array(values, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(
+            f"positions must be {model.variable_count} numbers ({', '.join(model.variable_names)}), got {values!r}"
+        ) from None
     if q.shape != (model.variable_count,):
         raise ValueError(
             f"positions must have {model.variable_count} values ({', '.join(model.variable_names)}), got shape {q.shape}"
@@ -219,6 +226,8 @@ class RobotState:
     def satisfies_bounds(self, group: str | None = None, margin: float = 0.0) -> bool:
         """Whether the group's (default: all but mimic followers, as MoveIt's active joints)
         variables lie inside their bounds (+ margin)."""
+        if not msgs.is_number(margin) or math.isnan(margin):
+            raise TypeError(f"satisfies_bounds: margin must be a number, got {margin!r}")
         idx = self._group(group).variable_indices if group else self._model._bounded_indices
         q = self._q[idx]
         return bool(

@@ -145,7 +145,10 @@ class RobotTrajectory:
         return len(self.waypoints)
 
     def __getitem__(self, index: int) -> RobotState:
-        return self.waypoints[index]
+        try:
+            return self.waypoints[index]
+        except IndexError:
+            raise IndexError(f"waypoint index {index} out of range for a trajectory of {len(self.waypoints)} waypoints") from None
 
     def __iter__(self):
         return iter(self.waypoints)
