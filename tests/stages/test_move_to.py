@@ -610,3 +610,29 @@ def test_unknown_subframe_is_an_unknown_frame(make_task, start_scene, move):
     move.setGoal(msgs.PoseStamped())
     assert not make_task(stages.FixedState("start", start_scene), move).plan()
     assert move.failures[0].comment == "ik_frame specified in unknown frame 'attached_object/nope'"
+
+
+def _pilz(planner_id):
+    planner = core.PipelinePlanner("pilz_industrial_motion_planner")
+    planner.planner = planner_id
+    return planner
+
+
+@pytest.mark.parametrize("make_planner, comment", [
+    (JointInterpolationPlanner, "IK failed for pose target: link 'panda_link0' is not moved by group 'panda_arm'"),
+    (core.CartesianPath, "CartesianPath: link 'panda_link0' is not moved by group 'panda_arm'"),
+    (lambda: core.PipelinePlanner("ompl"), "NO_IK_SOLUTION: link 'panda_link0' is not moved by group 'panda_arm'"),
+    (lambda: _pilz("PTP"), "NO_IK_SOLUTION: link 'panda_link0' is not moved by group 'panda_arm'"),
+    (lambda: _pilz("LIN"), "NO_IK_SOLUTION: link 'panda_link0' is not moved by group 'panda_arm'"),
+], ids=["joint", "cartesian", "ompl", "ptp", "lin"])
+def test_an_ik_frame_the_group_does_not_move_is_a_failure(make_task, make_planner, comment):
+    """A pose goal for a frame no joint of the group moves (the base) cannot be reached: each
+    planner fails with a comment saying so, as MTC's planners fail their IK (not an exception)."""
+    m = stages.MoveTo("move", make_planner())
+    m.group = "panda_arm"
+    m.setIKFrame("panda_link0")
+    m.setGoal(msgs.PoseStamped(header=msgs.Header(frame_id="world"), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0))))
+    task = make_task(stages.CurrentState("current"), m)
+    assert not task.plan()
+    assert [f.comment for f in m.failures] == [comment + " (variables: panda_joint1, panda_joint2, panda_joint3, "
+                                               "panda_joint4, panda_joint5, panda_joint6, panda_joint7)"]

@@ -172,7 +172,10 @@ class CartesianPath(PlannerInterface):
         ik_link, tip_offset = ik.resolve_tip(start, jmg.name, link)
         frame_offset = tip_offset @ offset
         inv_offset = pin.SE3(rigid_inverse(frame_offset))
-        solver = ik.get_ik_solver(start.robot_model, jmg.name, ik_link)
+        try:
+            solver = ik.get_ik_solver(start.robot_model, jmg.name, ik_link)
+        except ik.UnmovedLinkError as e:
+            return PlannerResult(False, f"CartesianPath: {e}"), None
         to_frame = pin.SE3(frame_offset)
 
         T0 = solver.forward(start.positions) * to_frame

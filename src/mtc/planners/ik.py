@@ -38,7 +38,13 @@ from mtc.scene.robot_state import RobotState, as_rng
 
 log = logging.getLogger(__name__)
 
-__all__ = ["IKSolver", "get_ik_solver", "resolve_tip", "solve_ik", "set_from_ik", "as_pose_matrix"]
+__all__ = ["IKSolver", "UnmovedLinkError", "get_ik_solver", "resolve_tip", "solve_ik", "set_from_ik", "as_pose_matrix"]
+
+
+class UnmovedLinkError(ValueError):
+    """No variable of the group moves the link IK is asked to place (an ``ik_frame`` on the
+    robot's base, or on a link of another group): planners report it as a failure, as MTC's
+    report the IK that cannot succeed."""
 
 #: Convergence threshold on the norm of the 6D pose error ([m] and [rad] mixed).
 DEFAULT_TOLERANCE = 1e-6
@@ -88,7 +94,7 @@ class IKSolver:
 
     Raises:
         KeyError: unknown group or link.
-        ValueError: no variable of the group moves the link.
+        UnmovedLinkError (a ValueError): no variable of the group moves the link.
     """
 
     def __init__(self, robot_model: RobotModel, group: str, link: str):
@@ -125,7 +131,7 @@ class IKSolver:
                 follower_cols.append((int(np.nonzero(idx == master)[0][0]), follower, multiplier))
                 moving.append(master)
         if not moving:
-            raise ValueError(
+            raise UnmovedLinkError(
                 f"link '{link}' is not moved by group '{self.group.name}' "
                 f"(variables: {', '.join(self.group.variable_names)})"
             )

@@ -140,16 +140,19 @@ class JointInterpolationPlanner(PlannerInterface):
         except (ValueError, KeyError) as e:
             return PlannerResult(False, f"Invalid path constraints: {e}"), None
         ik_timeout = timeout if math.isfinite(timeout) else jmg.default_ik_timeout
-        solutions = ik.solve_ik(
-            from_scene.current_state,
-            jmg.name,
-            target,
-            tip=link,
-            offset=offset,
-            timeout=ik_timeout,
-            is_valid=lambda state: validity(state.positions),
-            rng=0,
-        )
+        try:
+            solutions = ik.solve_ik(
+                from_scene.current_state,
+                jmg.name,
+                target,
+                tip=link,
+                offset=offset,
+                timeout=ik_timeout,
+                is_valid=lambda state: validity(state.positions),
+                rng=0,
+            )
+        except ik.UnmovedLinkError as e:
+            return PlannerResult(False, f"IK failed for pose target: {e}"), None
         if not solutions:
             return PlannerResult(False, "IK failed for pose target."), None
         if time.perf_counter() > deadline:

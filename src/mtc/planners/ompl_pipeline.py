@@ -1397,7 +1397,10 @@ class OMPLPipeline:
         except (KeyError, ValueError) as e:
             raise KeyError(f"pose goal: {msgs.error_text(e)}") from None
         link_target = target @ np.linalg.inv(tip_offset @ offset)
-        solver = ik.get_ik_solver(scene.robot_model, req.group.name, tip)
+        try:
+            solver = ik.get_ik_solver(scene.robot_model, req.group.name, tip)
+        except ik.UnmovedLinkError as e:  # (a pose goal for a link the group does not move)
+            return [], f"NO_IK_SOLUTION: {e}"
         checker = req.checker
         idx = req.group.variable_indices
         rejected = {"invalid": 0, "bounds": 0}

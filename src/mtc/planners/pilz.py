@@ -303,6 +303,8 @@ class PilzPipeline:
     def _run(self, fn, start, jmg, vs, acs):
         try:
             return fn()
+        except ik.UnmovedLinkError as e:  # (a pose goal for a link the group does not move)
+            return PlannerResult(False, error_message("NO_IK_SOLUTION", str(e))), None
         except _Failure as failure:
             traj = None
             if failure.positions:
