@@ -1070,6 +1070,7 @@ BAD_INPUT = {
         KeyError, ["'ghost'", "obj"],
     ),
     "get-unknown-world-object": (lambda s: s.get_world_object("ghost"), KeyError, ["'ghost'", "far"]),
+    "get-attached-as-world-object": (lambda s: s.get_world_object("obj"), KeyError, ["'obj'", "far", "'obj' is attached to 'panda_hand'"]),
     "get-unknown-attached": (lambda s: s.get_attached_object("ghost"), KeyError, ["'ghost'", "obj"]),
     "unknown-frame": (lambda s: s.get_frame_transform("far/ghost"), KeyError, ["'far/ghost'"]),
     "not-a-message": (lambda s: s.apply_collision_object({"id": "b"}), TypeError, ["CollisionObject"]),

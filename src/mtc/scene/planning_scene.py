@@ -1057,8 +1057,10 @@ class PlanningScene:
         try:
             return self._world[name]
         except KeyError:
+            attached = self._attached.get(name)
+            where = f"; '{name}' is attached to '{attached.link}'" if attached is not None else ""
             raise KeyError(
-                f"unknown world object '{name}' (objects: {', '.join(self._world) or 'none'})"
+                f"unknown world object '{name}' (objects: {', '.join(self._world) or 'none'}{where})"
             ) from None
 
     def get_attached_object(self, name: str) -> AttachedObject:
