@@ -451,34 +451,13 @@ def test_inconsistent_urdf_names_file_and_item(tmp_path, body, words):
 
 
 @pytest.mark.parametrize(
-    "joint_body, words",
-    [
-        ('<limit lower="abc" upper="1" velocity="1" effort="1"/>', ["'j1'", "lower", "'abc'"]),
-        ('<limit lower="-1" upper="1" velocity="fast" effort="1"/>', ["'j1'", "velocity", "'fast'"]),
-        ('<limit lower="-1" upper="1" velocity="1" effort="1"/><mimic joint="j0" multiplier="x"/>', ["'j1'", "multiplier", "'x'"]),
-    ],
-    ids=["limit-lower", "limit-velocity", "mimic-multiplier"],
-)
-def test_non_numeric_joint_values_name_file_joint_and_value(tmp_path, joint_body, words):
-    """A non-numeric limit or mimic value raises DescriptionError naming the file, joint, attribute and value."""
-    body = (
-        LINK.format("a") + LINK.format("b") + LINK.format("c")
-        + '<joint name="j0" type="revolute"><parent link="a"/><child link="b"/>'
-        '<limit lower="-1" upper="1" velocity="1" effort="1"/></joint>'
-        + f'<joint name="j1" type="revolute"><parent link="b"/><child link="c"/>{joint_body}</joint>'
-    )  # fmt: skip
-    path = write(tmp_path, "numbers.urdf", urdf(body))
-    with pytest.raises(DescriptionError) as e:
-        RobotModel(path)
-    msg = str(e.value)
-    assert "numbers.urdf" in msg
-    for word in words:
-        assert word in msg, (word, msg)
-
-
-@pytest.mark.parametrize(
     "joint_body, link_c, words",
     [
+        ('<limit lower="abc" upper="1" velocity="1" effort="1"/>', "", ["'j1'", "lower", "'abc'"]),
+        ('<limit lower="-1" upper="1" velocity="fast" effort="1"/>', "", ["'j1'", "velocity", "'fast'"]),
+        ('<limit lower="-1" upper="1" velocity="1" effort="1"/><mimic joint="j0" multiplier="x"/>', "",
+         ["'j1'", "multiplier", "'x'"]),
+        # numbers that parse but make no robot (Pinocchio took them, or failed without saying where)
         ('<limit lower="1" upper="-1" velocity="1" effort="1"/>', "", ["'j1'", "lower='1' is above upper='-1'"]),
         ('<limit lower="-1" upper="1" velocity="-1" effort="1"/>', "", ["'j1'", "velocity='-1' is negative"]),
         ('<limit lower="-1" upper="1" velocity="1" effort="-2"/>', "", ["'j1'", "effort='-2' is negative"]),
@@ -487,11 +466,12 @@ def test_non_numeric_joint_values_name_file_joint_and_value(tmp_path, joint_body
         ('<limit lower="-1" upper="1" velocity="1" effort="1"/>',
          '<collision><geometry><box size="-1 1 1"/></geometry></collision>', ["link 'c'", "size='-1 1 1' is negative"]),
     ],
-    ids=["lower-above-upper", "negative-velocity", "negative-effort", "zero-axis", "mimics-itself", "negative-box"],
+    ids=["limit-lower", "limit-velocity", "mimic-multiplier", "lower-above-upper", "negative-velocity",
+         "negative-effort", "zero-axis", "mimics-itself", "negative-box"],
 )
-def test_values_that_make_no_robot_name_file_item_and_value(tmp_path, joint_body, link_c, words):
-    """Numbers that parse but make no robot are refused where Pinocchio would take them (or
-    fail without saying where): the message names the file, the joint or link and the value."""
+def test_bad_joint_and_shape_values_name_file_item_and_value(tmp_path, joint_body, link_c, words):
+    """A limit, axis, mimic or shape value that is not a number, or a number that makes no
+    robot, raises DescriptionError naming the file, the joint or link, the attribute and value."""
     body = (
         LINK.format("a") + LINK.format("b") + f'<link name="c">{link_c}</link>'
         + '<joint name="j0" type="revolute"><parent link="a"/><child link="b"/>'
