@@ -46,6 +46,7 @@ class UnmovedLinkError(ValueError):
     robot's base, or on a link of another group): planners report it as a failure, as MTC's
     report the IK that cannot succeed."""
 
+
 #: Convergence threshold on the norm of the 6D pose error ([m] and [rad] mixed).
 DEFAULT_TOLERANCE = 1e-6
 #: Iterations of one attempt before it is abandoned (a converging attempt of the Panda takes

@@ -269,4 +269,5 @@ class PlanningSceneInterface:
         """Poses of the named world objects (as MoveIt's; unknown and attached names are left out)."""
         scene = self.scene
         world = set(scene.world_object_names)
-        return {n: msgs.matrix_to_pose(scene.get_frame_transform(n)) for n in name_list(object_ids, "object_ids") if n in world}
+        names = name_list(object_ids, "object_ids")
+        return {n: msgs.matrix_to_pose(scene.get_frame_transform(n)) for n in names if n in world}

@@ -8,7 +8,6 @@ which keeps copying a state cheap).
 from __future__ import annotations
 
 import math
-import numbers
 
 import numpy as np
 import pinocchio as pin
@@ -37,6 +36,7 @@ def _checked_positions(model: RobotModel, values) -> np.ndarray:
     """``values`` as a new full variable vector of ``model``.
 
     Raises:
+        TypeError: values that are not numbers.
         ValueError: the wrong number of values, or values that are not finite.
     """
     try:
@@ -226,8 +226,10 @@ class RobotState:
     def satisfies_bounds(self, group: str | None = None, margin: float = 0.0) -> bool:
         """Whether the group's (default: all but mimic followers, as MoveIt's active joints)
         variables lie inside their bounds (+ margin)."""
-        if not msgs.is_number(margin) or math.isnan(margin):
+        if not msgs.is_number(margin):
             raise TypeError(f"satisfies_bounds: margin must be a number, got {margin!r}")
+        if math.isnan(margin):
+            raise ValueError("satisfies_bounds: margin must be a number, got nan")
         idx = self._group(group).variable_indices if group else self._model._bounded_indices
         q = self._q[idx]
         return bool(
@@ -263,7 +265,7 @@ class RobotState:
     def interpolate(self, other: RobotState, t: float, group: str | None = None) -> RobotState:
         """The state ``t`` of the way from this one to ``other`` (continuous joints the short way)."""
         self._check_other(other, "interpolate")
-        if isinstance(t, bool) or not isinstance(t, numbers.Real):
+        if not msgs.is_number(t):
             raise TypeError(f"interpolate(): t must be a number (0: this state, 1: the other), got {t!r}")
         if not math.isfinite(t):
             raise ValueError(f"interpolate(): t must be finite, got {t!r}")
@@ -416,7 +418,9 @@ class RobotState:
             except (TypeError, ValueError):
                 point = np.full(0, np.nan)
             if point.shape != (3,) or not np.isfinite(point).all():
-                raise ValueError(f"get_jacobian: the reference point must be 3 finite numbers (in the link frame), got {reference_point!r}")
+                raise ValueError(
+                    f"get_jacobian: the reference point must be 3 finite numbers (in the link frame), got {reference_point!r}"
+                )
             r = data.oMf[fid].rotation @ point
             J = J.copy()
             J[:3] -= np.cross(r, J[3:].T).T

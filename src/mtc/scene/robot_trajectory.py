@@ -97,7 +97,8 @@ class RobotTrajectory:
                 f"positions must be one row of {len(cols)} values per waypoint (N x {len(cols)}), got shape {rows.shape}"
             )
         if not np.isfinite(rows).all():
-            raise ValueError(f"positions must be finite, got a NaN or infinity in row {int(np.flatnonzero(~np.isfinite(rows).all(axis=1))[0])}")
+            row = int(np.flatnonzero(~np.isfinite(rows).all(axis=1))[0])
+            raise ValueError(f"positions must be finite, got a NaN or infinity in row {row}")
         _check_times(times)
         # one matrix of full variable vectors, mimic joints set in one go; each waypoint
         # owns a row of it
@@ -148,7 +149,9 @@ class RobotTrajectory:
         try:
             return self.waypoints[index]
         except IndexError:
-            raise IndexError(f"waypoint index {index} out of range for a trajectory of {len(self.waypoints)} waypoints") from None
+            raise IndexError(
+                f"waypoint index {index} out of range for a trajectory of {len(self.waypoints)} waypoints"
+            ) from None
 
     def __iter__(self):
         return iter(self.waypoints)
