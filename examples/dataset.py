@@ -17,10 +17,11 @@ In ``--out`` it writes, per sample ``NNNNN``:
 and ``index.jsonl``: one line per sample, in sample order, with the box's pose, the place
 position, the seed, whether it was solved, the cost, the planning time, and for a failed
 sample why (``task.explainFailure()``). A failed sample is data too: it has no files but its
-line says what failed.
+line says what failed. Each line is written as soon as its sample and all before it are
+planned, so a run that is stopped keeps the index of what it finished.
 
 Run: ``python examples/dataset.py --samples 100 --workers 2 --out pick_place_dataset`` (a
-folder that holds no dataset yet). ``--view N`` plans sample ``N`` again and shows it in the
+folder that holds no dataset yet: no index and no sample files, not even a stopped run's). ``--view N`` plans sample ``N`` again and shows it in the
 browser, writing nothing; given the dataset's ``--seed`` and ``--solutions`` it is the same plan
 (the sample is drawn from its own stream; more solutions can find a cheaper best one).
 """
@@ -96,26 +97,39 @@ def plan_sample(job: tuple[dict, str, int, float]) -> dict:
     return record
 
 
+def bad_arguments(samples: int, workers: int, seed: int, max_solutions: int, timeout: float) -> str | None:
+    """What is wrong with ``make_dataset``'s numbers, or None."""
+    if samples < 0 or workers < 1 or seed < 0 or max_solutions < 1 or not timeout > 0:
+        return ("need samples >= 0, workers >= 1, seed >= 0, max_solutions >= 1 and a positive timeout, got "
+                f"samples={samples}, workers={workers}, seed={seed}, max_solutions={max_solutions}, timeout={timeout}")
+    return None
+
+
 def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: int = 0,
                  max_solutions: int = 1, timeout: float = 60.0) -> list[dict]:
     """Plan ``samples`` samples over ``workers`` processes into ``out``; returns the records
-    (also written to ``out/index.jsonl``, in sample order)."""
-    if samples < 0 or workers < 1 or seed < 0 or max_solutions < 1 or not timeout > 0:
-        raise ValueError("need samples >= 0, workers >= 1, seed >= 0, max_solutions >= 1 and a positive timeout, got "
-                         f"samples={samples}, workers={workers}, seed={seed}, max_solutions={max_solutions}, "
-                         f"timeout={timeout}")
-    if (Path(out) / "index.jsonl").exists():
-        raise FileExistsError(f"{out} holds a dataset already (index.jsonl): choose another folder or remove it")
-    Path(out).mkdir(parents=True, exist_ok=True)
+    (also written to ``out/index.jsonl``, in sample order, each as soon as it and all before it
+    are planned)."""
+    error = bad_arguments(samples, workers, seed, max_solutions, timeout)
+    if error:
+        raise ValueError(error)
+    folder = Path(out)
+    if folder.is_dir() and any(p.name == "index.jsonl" or p.name.startswith("sample_") for p in folder.iterdir()):
+        raise FileExistsError(f"{out} holds a dataset already (index.jsonl or sample files, maybe of a stopped run): "
+                              "choose another folder or remove it")
+    folder.mkdir(parents=True, exist_ok=True)
     jobs = [(draw_sample(seed, i), str(out), max_solutions, timeout) for i in range(samples)]
-    if workers == 1:
-        records = [plan_sample(job) for job in jobs]
-    else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
-            records = list(pool.map(plan_sample, jobs))  # (map keeps the sample order)
-    with open(Path(out) / "index.jsonl", "w") as f:
-        for record in records:
-            f.write(json.dumps(record) + "\n")
+    records = []
+    with open(folder / "index.jsonl", "w") as index, contextlib.ExitStack() as stack:
+        if workers == 1:
+            planned = map(plan_sample, jobs)
+        else:
+            pool = stack.enter_context(ProcessPoolExecutor(max_workers=workers))
+            planned = pool.map(plan_sample, jobs)  # (map yields in the sample order)
+        for record in planned:
+            index.write(json.dumps(record) + "\n")
+            index.flush()
+            records.append(record)
     return records
 
 
@@ -136,8 +150,14 @@ def main(argv: list[str] | None = None):
             parser.error("--view and --seed take numbers >= 0, --solutions one >= 1, --timeout one > 0")
         sample = draw_sample(args.seed, args.view)
         return run_example(lambda: sample_task(sample, args.timeout), __doc__, ["--view"], args.solutions)
+    error = bad_arguments(args.samples, args.workers, args.seed, args.solutions, args.timeout)
+    if error:
+        parser.error(error)
     start = time.perf_counter()
-    records = make_dataset(args.out, args.samples, args.workers, args.seed, args.solutions, args.timeout)
+    try:
+        records = make_dataset(args.out, args.samples, args.workers, args.seed, args.solutions, args.timeout)
+    except FileExistsError as e:
+        parser.error(str(e))
     solved = sum(r["solved"] for r in records)
     print(f"{solved} of {len(records)} samples solved in {time.perf_counter() - start:.1f} s "
           f"with {args.workers} worker(s); files and index.jsonl in {args.out}")

@@ -368,6 +368,40 @@ def test_dataset_records_a_failed_sample_with_its_reason(tmp_path):
     namespace["make_dataset"](tmp_path / "empty", 0)
     with pytest.raises(FileExistsError, match="holds a dataset already"):
         namespace["make_dataset"](tmp_path / "empty", 0)
+    # a stopped run's folder (sample files, no index) is a dataset too: not mixed with a new one
+    stopped = tmp_path / "stopped"
+    stopped.mkdir()
+    (stopped / "sample_00004.json").write_text("{}")
+    with pytest.raises(FileExistsError, match="maybe of a stopped run"):
+        namespace["make_dataset"](stopped, 1)
+    with pytest.raises(SystemExit):  # the command line says so without a traceback
+        namespace["main"](["--out", str(stopped), "--samples", "1"])
+    with pytest.raises(SystemExit):
+        namespace["main"](["--samples", "-1", "--out", str(tmp_path / "never")])
+    assert not (tmp_path / "never").exists()
+
+
+def test_dataset_index_grows_in_sample_order_as_samples_finish(tmp_path):
+    """Each index line is written when its sample and all before it are planned: a run that
+    stops part-way keeps the lines of what it finished."""
+    namespace = runpy.run_path(str(EXAMPLES / "dataset.py"), run_name="example_dataset")
+    make_dataset = namespace["make_dataset"]
+    seen = []
+
+    def fake_plan(job):
+        sample = job[0]
+        if sample["index"] == 2:
+            lines = (tmp_path / "run" / "index.jsonl").read_text().splitlines()
+            seen.append([json.loads(line)["index"] for line in lines])
+            raise KeyboardInterrupt  # stopped while planning sample 2
+        return dict(sample, solved=False, plan_s=0.0, cost=None, solutions=0, failure="x")
+
+    make_dataset.__globals__["plan_sample"] = fake_plan
+    with pytest.raises(KeyboardInterrupt):
+        make_dataset(tmp_path / "run", 5, workers=1)
+    assert seen == [[0, 1]]
+    lines = (tmp_path / "run" / "index.jsonl").read_text().splitlines()
+    assert [json.loads(line)["index"] for line in lines] == [0, 1]
 
 
 # ---------------------------------------------------------------------------------------------
