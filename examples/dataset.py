@@ -125,7 +125,8 @@ def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: i
             planned = map(plan_sample, jobs)
         else:
             pool = stack.enter_context(ProcessPoolExecutor(max_workers=workers))
-            planned = pool.map(plan_sample, jobs)  # (map yields in the sample order)
+            # (map yields in the sample order; closed first on a stop, it cancels the samples not begun)
+            planned = stack.enter_context(contextlib.closing(pool.map(plan_sample, jobs)))
         for record in planned:
             index.write(json.dumps(record) + "\n")
             index.flush()
