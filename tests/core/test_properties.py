@@ -540,3 +540,39 @@ def test_message_values_are_copied_when_set_and_read():
     p.declare("planner")
     p.set("planner", planner)
     assert p["planner"] is planner  # objects, not data, are shared (as MTC's shared pointers)
+
+
+def test_property_names_are_strings_and_map_calls_are_all_or_nothing():
+    """A property name that is not a non-empty str is refused before anything is declared
+    (it broke iteration, planning and introspection later); configureInitFrom, exposeTo and
+    update check every name before changing any."""
+    pm = PropertyMap()
+    for call in (lambda: pm.set(None, 1), lambda: pm.declare(5), lambda: pm.update({7: 4}),
+                 lambda: pm.__setitem__(1, 2), lambda: pm.set("", 1)):
+        with pytest.raises(TypeError, match="a property name must be a non-empty str"):
+            call()
+    assert len(pm) == 0
+    with pytest.raises(TypeError, match="update\\(\\) takes a dict of property values, not list"):
+        pm.update([("a", 1)])
+    stage = GeneratorMockup()
+    before = stage.properties.keys()
+    with pytest.raises(TypeError, match="a property name must be a non-empty str, got 3"):
+        stage.properties[3] = 1
+    with pytest.raises(TypeError, match="a property name must be a non-empty str, got 1"):
+        stage.setProperty(1, 2)
+    assert stage.properties.keys() == before
+    # configureInitFrom: a conflict on a later property leaves the earlier ones as they were
+    pm = PropertyMap({"a": 1, "c": 2})
+    pm.property("c").configureInitFrom(core.Stage.INTERFACE)
+    with pytest.raises(PropertyError, match="Property 'c': Property was already configured"):
+        pm.configureInitFrom(core.Stage.PARENT)
+    assert not pm.property("a").initsFrom(core.Stage.PARENT)
+    with pytest.raises(TypeError, match="a property name must be a non-empty str, got 5"):
+        pm.configureInitFrom(core.Stage.PARENT, [5])
+    # exposeTo: an undeclared or conflicting name later in the list exposes nothing
+    dst = PropertyMap({"c": "text"})
+    with pytest.raises(UndeclaredPropertyError, match="nope"):
+        pm.exposeTo(dst, ["a", "nope"])
+    with pytest.raises(PropertyTypeError):
+        pm.exposeTo(dst, ["a", "c"])  # c is an int here, a str there
+    assert dst.keys() == ["c"]

@@ -16,7 +16,7 @@ from __future__ import annotations
 import copy
 import math
 import numbers
-from collections.abc import Callable, Iterable
+from collections.abc import Callable, Iterable, Mapping
 from enum import IntFlag
 from typing import Any
 
@@ -130,6 +130,12 @@ class PropertyInitializerSource(IntFlag):
     MANUAL = 1
     PARENT = 2
     INTERFACE = 4
+
+
+def _check_property_name(name) -> None:
+    """Property names are non-empty strings (MTC's are ``std::string``)."""
+    if not isinstance(name, str) or not name:
+        raise TypeError(f"a property name must be a non-empty str, got {name!r}")
 
 
 def _source(value) -> int:
@@ -489,8 +495,7 @@ class Property:
             PropertyError: Already configured for another source.
         """
         source = _source(source)
-        if self._initializer is not None and self._source_flags != source:
-            raise PropertyError("Property was already configured for initialization from another source id")
+        self._check_init_source(source)
         if initializer is None:
             if not self._name:
                 raise TypeError("configureInitFrom() needs the name of the property to read from")
@@ -504,6 +509,12 @@ class Property:
             raise TypeError(f"initializer must be a property name or a callable, got {initializer!r}")
         self._source_flags = source
         return self
+
+    def _check_init_source(self, source: int) -> None:
+        if self._initializer is not None and self._source_flags != source:
+            error = PropertyError("Property was already configured for initialization from another source id")
+            error.setName(self._name)
+            raise error
 
     def __repr__(self) -> str:
         return f"Property({self.typeName()}, value={self.value()!r})"
@@ -539,6 +550,7 @@ class PropertyMap:
         Raises:
             PropertyTypeError: ``name`` exists with a different declared type.
         """
+        _check_property_name(name)
         if type is PropertyMap._INFER:
             type = None if default is None else default.__class__
         type = _normalize_type(type)
@@ -577,6 +589,7 @@ class PropertyMap:
 
     def set(self, name: str, value) -> None:
         """Set a persistent value, declaring the property with the value's type if needed."""
+        _check_property_name(name)
         p = self._props.get(name)
         if p is None:
             if value is None:
@@ -651,16 +664,20 @@ class PropertyMap:
         sources = _source(sources)
         if isinstance(names, str):
             names = [names]
-        wanted = None if names is None else set(names)
-        for name, p in self._props.items():
-            # an empty list means all properties (MTC's default argument {})
-            if wanted and name not in wanted:
-                continue
+        if names is not None:
             try:
-                p.configureInitFrom(sources, name)
-            except PropertyError as e:
-                e.setName(name)
-                raise
+                names = list(names)
+            except TypeError:
+                raise TypeError(f"configureInitFrom() takes a property name or a list of names, got {names!r}") from None
+            for name in names:
+                _check_property_name(name)
+        wanted = None if names is None else set(names)
+        # an empty list means all properties (MTC's default argument {})
+        chosen = [(name, p) for name, p in self._props.items() if not wanted or name in wanted]
+        for _name, p in chosen:  # (all are checked before the first is changed)
+            p._check_init_source(sources)
+        for name, p in chosen:
+            p.configureInitFrom(sources, name)
 
     def performInitFrom(self, source: int, other: "PropertyMap") -> None:
         """Initialize properties configured for ``source`` from ``other``.
@@ -719,8 +736,15 @@ class PropertyMap:
             if other_name is not None:
                 raise TypeError("other_name is only allowed when exposing a single property")
             pairs = [(n, n) for n in names]
-        for name, target in pairs:
+        exposed = []
+        for name, target in pairs:  # (all are checked before the first is declared)
+            _check_property_name(target)
             p = self.property(name)
+            existing = other._props.get(target)
+            if existing is not None and existing._type is not None and existing._type != p._type:
+                raise PropertyTypeError(_type_name(p._type), _type_name(existing._type), target)
+            exposed.append((p, target))
+        for p, target in exposed:
             # as MTC: an existing declaration in other is kept as it is
             other.declare(target, p._default, p._description, type=p._type, convert=p._convert)
 
@@ -761,7 +785,10 @@ class PropertyMap:
 
     def update(self, values: dict) -> None:
         """``set()`` every item of ``values`` (none of them may be None: then nothing is set)."""
+        if not isinstance(values, Mapping):
+            raise TypeError(f"update() takes a dict of property values, not {type(values).__name__}")
         for k, v in values.items():
+            _check_property_name(k)
             _not_none(v, f"update() of property '{k}'")
             self._check_convertible(k, v, f"update() of property '{k}'")
             p = self._props.get(k)
