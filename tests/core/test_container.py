@@ -171,6 +171,23 @@ def test_wrapper_single_child():
     w = core.WrapperBase("w", GeneratorMockup())
     with pytest.raises(RuntimeError, match="w: Wrapper only allows a single child"):
         w.insert(GeneratorMockup())
+    # add() is all or none: two stages for an empty wrapper are refused before the first is taken
+    empty = core.WrapperBase("empty")
+    a, b = GeneratorMockup(), GeneratorMockup()
+    with pytest.raises(RuntimeError, match="empty: Wrapper only allows a single child"):
+        empty.add(a, b)
+    assert empty.wrapped() is None and a.parent is None
+
+
+def test_a_task_is_no_child_stage():
+    """As in MTC's binding, where a Task is no Stage: a task added into a container (or given
+    as a task's container) is refused at once; it would only fail silently when planned."""
+    outer = core.SerialContainer("outer")
+    with pytest.raises(TypeError, match="outer: a Task cannot be a child stage"):
+        outer.add(core.Task())
+    assert len(outer) == 0
+    with pytest.raises(TypeError, match=r"Task container must be a ContainerBase \(not a Task\), got Task"):
+        core.Task(container=core.Task())
 
 
 # --- interface resolution ---------------------------------------------------------------

@@ -114,9 +114,11 @@ def test_spawn_forms(t):
     assert t.solutions[1].solutions[0].comment == "sub"
 
 
-def test_bad_input_found_while_computing_names_the_stage(t):
-    """An exception a stage's compute raises on bad input (ValueError, TypeError, KeyError,
-    IndexError) leaves plan() as it is, with a note naming the innermost stage."""
+@pytest.mark.parametrize("error", [ValueError("pose.position.x must be finite, got nan"),
+                                   RuntimeError("boom"), ZeroDivisionError("division by zero")])
+def test_an_error_while_computing_names_the_stage(t, error):
+    """An exception a stage's compute raises (bad input found while computing, or an error in
+    a user's stage) leaves plan() as it is, with a note naming the innermost stage."""
     import sys
 
     class Faulty(core.Generator):
@@ -124,15 +126,27 @@ def test_bad_input_found_while_computing_names_the_stage(t):
             return True
 
         def compute(self):
-            raise ValueError("pose.position.x must be finite, got nan")
+            raise error
 
     inner = core.SerialContainer("inner")
     inner.add(Faulty("faulty"))
     t.add(inner)
-    with pytest.raises(ValueError, match="must be finite") as info:
+    with pytest.raises(type(error)) as info:
         t.plan()
     if sys.version_info >= (3, 11):
         assert info.value.__notes__ == ["in stage 'faulty'"]
+
+
+def test_connect_names_a_state_that_is_not_one(t):
+    class BadConnect(core.Connecting):
+        def compute(self, from_state, to_state):
+            self.connect(None, to_state, core.SubTrajectory())
+
+    add(t, GeneratorMockup([1.0]))
+    add(t, BadConnect("bad"))
+    add(t, GeneratorMockup([2.0]))
+    with pytest.raises(TypeError, match="connect\\(\\): expected an InterfaceState, got NoneType"):
+        t.plan()
 
 
 class PyMonitoringGenerator(core.MonitoringGenerator):

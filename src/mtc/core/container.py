@@ -153,6 +153,7 @@ class ContainerBase(Stage):
         Raises:
             RuntimeError, TypeError: as :meth:`insert`, for any of them, or one given twice.
         """
+        self._check_room(len(stages))
         for i, stage in enumerate(stages):
             self._check_child(stage)
             if any(stage is other for other in stages[:i]):
@@ -160,12 +161,17 @@ class ContainerBase(Stage):
         for stage in stages:
             self.insert(stage, -1)  # (subclasses' insert rules apply: a wrapper holds one child)
 
+    def _check_room(self, count: int) -> None:
+        """Raise if ``count`` more children do not fit (a wrapper holds one)."""
+
     def _check_child(self, stage) -> None:
         """Raise if ``stage`` cannot become a child of this container."""
         if stage is None:
             raise RuntimeError(f"{self._name}: received invalid stage pointer")
         if not isinstance(stage, Stage):
             raise TypeError(f"{self._name}: can only add stages, got {type(stage).__name__}")
+        if stage._is_task:  # (as MTC's binding: a Task is no Stage)
+            raise TypeError(f"{self._name}: a Task cannot be a child stage; add the stages themselves instead")
         if stage._parent is not None:
             raise RuntimeError(f"Tried to add stage '{stage._name}' to two parents")
         ancestor = self
@@ -1155,9 +1161,12 @@ class WrapperBase(ParallelContainerBase):
 
     def insert(self, stage: Stage, before: int = -1) -> None:
         """Set the child (only one is allowed)."""
-        if self._children:
-            raise RuntimeError(f"{self._name}: Wrapper only allows a single child")
+        self._check_room(1)
         super().insert(stage, before)
+
+    def _check_room(self, count: int) -> None:
+        if len(self._children) + count > 1:
+            raise RuntimeError(f"{self._name}: Wrapper only allows a single child")
 
     def wrapped(self) -> Stage | None:
         """The child (None if not set)."""

@@ -232,6 +232,7 @@ class Stage(TypedPropertyAccess):
     INTERFACE = PropertyInitializerSource.INTERFACE
 
     _attribute_getters = {"forwarded_properties": lambda v: sorted(v)}
+    _is_task = False  # (a Task is the root of a tree, never a child: see ContainerBase)
 
     def __init__(self, name: str = "stage"):
         if not isinstance(name, str):
@@ -542,9 +543,10 @@ class Stage(TypedPropertyAccess):
             self._compute()
         except PropertyError as e:
             raise RuntimeError(str(e) + self._composePropertyErrorMsg(e.name)) from None
-        except (ValueError, TypeError, KeyError, IndexError) as e:
-            # bad input found while computing (a NaN pose, say): the traceback names the stage
-            # (the innermost one; Python 3.11's notes, shown below the message)
+        except Exception as e:
+            # bad input found while computing (a NaN pose, say), or an error in a user's stage:
+            # the traceback names the stage (the innermost one; Python 3.11's notes, shown
+            # below the message)
             if hasattr(e, "add_note") and not any(n.startswith("in stage '") for n in getattr(e, "__notes__", ())):
                 e.add_note(f"in stage '{self._name}'")
             raise
@@ -2028,6 +2030,7 @@ class Connecting(ComputeBase):
     ) -> None:
         """Publish a solution connecting two states (optionally with this cost)."""
         sol = solution if isinstance(solution, SolutionBase) else _as_solution(solution, "connect()")
+        from_state, to_state = _as_state(from_state, "connect()"), _as_state(to_state, "connect()")
         if cost is not None:
             sol.cost = cost
         self._connect(from_state, to_state, sol)

@@ -98,13 +98,15 @@ class Task(WrapperBase):
         pruning: Enable pruning in the tree (default False).
     """
 
+    _is_task = True
+
     def __init__(self, ns: str = "", introspection: bool = True, container: ContainerBase | None = None):
         if not isinstance(ns, str):
             raise TypeError(f"Task ns (its namespace) must be a str, got {ns!r}")
         if container is None:
             container = SerialContainer("task pipeline")
-        elif not isinstance(container, ContainerBase):
-            raise TypeError(f"Task container must be a ContainerBase, got {type(container).__name__}")
+        elif not isinstance(container, ContainerBase) or container._is_task:
+            raise TypeError(f"Task container must be a ContainerBase (not a Task), got {type(container).__name__}")
         super().__init__("", container)
         self._ns = _normalize_ns(ns)
         self._robot_model = None
