@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -447,3 +448,19 @@ def test_clearance_along_no_trajectory_is_no_cost():
     current.setCostTerm(term)
     task.add(current)
     assert task.plan() and task.solutions[0].cost == 0.0
+
+
+def test_cost_term_arguments_of_the_wrong_kind_are_named():
+    """Arguments the terms would turn into something else silently ('no' into True, 5 into the
+    property '5', None into the link 'None') or fail on later are refused when the term is made."""
+    cases = [
+        (lambda: core.Clearance(with_world="no"), "Clearance with_world must be True or False, got 'no'"),
+        (lambda: core.Clearance(group_property=5), "Clearance group_property must be a property name"),
+        (lambda: core.LinkMotion(None), "LinkMotion: link_name must be a link name"),
+        (lambda: core.PathLength(5), "PathLength takes joint names or {joint: weight}, got 5"),
+        (lambda: core.SerialContainer("s").findChild(None), "findChild() takes a stage name or path"),
+    ]
+    for make, text in cases:
+        with pytest.raises(TypeError, match=re.escape(text)):
+            make()
+    assert core.Clearance(with_world=0).with_world is False  # a number reads as a flag, as pybind11's caster

@@ -224,6 +224,8 @@ class ContainerBase(Stage):
 
     def findChild(self, path: str) -> Stage | None:
         """Child by name or by path ``"a/b/c"`` (first match wins; None if not found)."""
+        if not isinstance(path, str):
+            raise TypeError(f"findChild() takes a stage name or path (str), got {path!r}")
         first, sep, rest = path.partition("/")
         for child in self._children:
             if child._name == first:

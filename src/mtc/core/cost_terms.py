@@ -17,7 +17,7 @@ from __future__ import annotations
 import inspect
 import logging
 import math
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from enum import IntEnum
 
 import numpy as np
@@ -263,8 +263,10 @@ class PathLength(TrajectoryCostTerm):
             self.joints = _joint_numbers(joints, "PathLength weight")
         elif isinstance(joints, str):
             self.joints = {joints: 1.0}
-        else:
+        elif isinstance(joints, Iterable):
             self.joints = _joint_numbers({k: 1.0 for k in joints}, "PathLength weight")
+        else:
+            raise TypeError(f"PathLength takes joint names or {{joint: weight}}, got {joints!r}")
 
     def __call__(self, solution):
         traj = solution.trajectory
@@ -365,7 +367,9 @@ class _LinkPathTerm(TrajectoryCostTerm):
     _cost_name = ""
 
     def __init__(self, link_name: str):
-        self.link_name = str(link_name)
+        if not isinstance(link_name, str) or not link_name:
+            raise TypeError(f"{type(self).__name__}: link_name must be a link name (str), got {link_name!r}")
+        self.link_name = link_name
 
     @staticmethod
     def _step(prev: np.ndarray, cur: np.ndarray) -> float:
@@ -427,9 +431,11 @@ class Clearance(TrajectoryCostTerm):
 
     def __init__(self, with_world: bool = True, cumulative: bool = False, group_property: str = "group",
                  mode=TrajectoryCostTerm.Mode.AUTO):
-        self.with_world = bool(with_world)
-        self.cumulative = bool(cumulative)
-        self.group_property = str(group_property)
+        self.with_world = msgs.flag(with_world, "Clearance with_world")
+        self.cumulative = msgs.flag(cumulative, "Clearance cumulative")
+        if not isinstance(group_property, str):
+            raise TypeError(f"Clearance group_property must be a property name (str), got {group_property!r}")
+        self.group_property = group_property
         self.mode = TrajectoryCostTerm.Mode(mode)
 
     @staticmethod
