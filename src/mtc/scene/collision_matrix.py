@@ -12,7 +12,27 @@ from collections.abc import Iterable
 
 from mtc import msgs
 
-__all__ = ["AllowedCollisionMatrix"]
+__all__ = ["AllowedCollisionMatrix", "name_list"]
+
+
+def name_list(names, what: str, none: bool = False) -> list[str]:
+    """Names given as one name or a list of them (or, with ``none``, None for no names), as a
+    list.
+
+    Raises:
+        TypeError: anything else, or an item that is not a str (``what`` names the argument).
+    """
+    if none and names is None:
+        return []
+    if isinstance(names, str):
+        return [names]
+    if isinstance(names, Iterable):
+        out = list(names)
+        for n in out:
+            if not isinstance(n, str):
+                raise TypeError(f"{what} must be a name or a list of names, got {n!r} in {names!r}")
+        return out
+    raise TypeError(f"{what} must be a name or a list of names, got {names!r}")
 
 
 class AllowedCollisionMatrix:
@@ -54,16 +74,6 @@ class AllowedCollisionMatrix:
         self.version += 1
         self.token = object()
 
-    @staticmethod
-    def _names(value, what: str) -> list[str]:
-        if isinstance(value, str):
-            return [value]
-        if isinstance(value, Iterable):
-            names = list(value)
-            if all(isinstance(n, str) for n in names):
-                return names
-        raise TypeError(f"{what} must be a name or a list of names, not {value!r}")
-
     def set_entry(self, first, second=None, allowed: bool | None = None) -> None:
         """Allow (True) or forbid (False) collisions between ``first`` and ``second``.
 
@@ -73,14 +83,14 @@ class AllowedCollisionMatrix:
         if allowed is None and (msgs.is_bool(second) or msgs.is_number(second)):
             second, allowed = None, second
         allowed = msgs.flag(allowed, "allowed")  # (a number reads as a bool, as pybind11's caster reads it)
-        firsts = self._names(first, "first")
+        firsts = name_list(first, "first")
         if second is None:
             for name in firsts:
                 for key in [k for k in self._entries if name in k]:
                     self._entries[key] = allowed
         else:
             for a in firsts:
-                for b in self._names(second, "second"):
+                for b in name_list(second, "second"):
                     self._entries[frozenset((a, b))] = allowed
         self._changed()
 

@@ -23,7 +23,7 @@ import pinocchio as pin
 
 from mtc import msgs
 from mtc.scene._moveit_py import moveit_py_keywords
-from mtc.scene.collision_matrix import AllowedCollisionMatrix
+from mtc.scene.collision_matrix import AllowedCollisionMatrix, name_list
 from mtc.scene.robot_model import DescriptionError, RobotModel, check_same_model
 from mtc.scene.robot_state import RobotState, plain_frame
 
@@ -113,26 +113,6 @@ def _check_name(name, what="object id") -> str:
     if not isinstance(name, str) or not name:
         raise ValueError(f"{what} must be a non-empty string, got {name!r}")
     return name
-
-
-def name_list(names, what: str) -> list[str]:
-    """Names given as one name, a list of them or None (none), as a list.
-
-    Raises:
-        TypeError: anything else, or an item that is not a str (``what`` names the argument).
-    """
-    if names is None:
-        return []
-    if isinstance(names, str):
-        return [names]
-    try:
-        out = list(names)
-    except TypeError:
-        raise TypeError(f"{what} must be a name or a list of names, got {names!r}") from None
-    for n in out:
-        if not isinstance(n, str):
-            raise TypeError(f"{what} must be a name or a list of names, got {n!r} in {names!r}")
-    return out
 
 
 def _primitive_geometry(prim: msgs.SolidPrimitive, object_id: str):
@@ -1278,7 +1258,7 @@ class PlanningScene:
         self._own_attached()[name] = attached
 
     def _touch_links(self, touch_links) -> frozenset:
-        touch = frozenset(name_list(touch_links, "touch_links"))
+        touch = frozenset(name_list(touch_links, "touch_links", none=True))
         for t in touch:
             self._model.frame_id(t)
         return touch
