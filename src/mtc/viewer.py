@@ -241,10 +241,6 @@ class _ObjectNodes:
         raise KeyError(path)
 
 
-def _check_model(model: RobotModel, other: RobotModel, what: str) -> None:
-    check_same_model(model, other, what, "the viewer's")  # (a viewer shows one robot model)
-
-
 def _as_segments(item: Any) -> list[Segment]:
     """Normalize what ``play`` accepts into segments."""
     if isinstance(item, RobotTrajectory):
@@ -322,13 +318,13 @@ def _keys(model: RobotModel, segments: list[Segment], fps: float, scene: Plannin
         for attr in ("start_scene", "end_scene"):
             s = getattr(seg, attr)
             if s is not None:
-                _check_model(model, s.robot_model, f"segment {k}'s {attr}")
+                check_same_model(model, s.robot_model, f"segment {k}'s {attr}", "the viewer's")
         start = seg.start_scene if seg.start_scene is not None else current
         end = seg.end_scene if seg.end_scene is not None else start
         start_objects, end_objects = _scene_objects(start), _scene_objects(end)
         traj = seg.trajectory
         if traj is not None and len(traj) > 0:
-            _check_model(model, traj.robot_model, f"segment {k}'s trajectory")
+            check_same_model(model, traj.robot_model, f"segment {k}'s trajectory", "the viewer's")
             times, states = _trajectory_samples(traj, fps)
             keys.extend(_Key(t0 + float(t), s, start_objects) for t, s in zip(times, states))
             t0 += float(times[-1])
@@ -1071,7 +1067,7 @@ class Viewer:
         """Show the robot at ``state``; objects attached in the last shown scene follow."""
         if not isinstance(state, RobotState):
             raise TypeError(f"show_state takes a RobotState, not {type(state).__name__}")
-        _check_model(self._model, state.robot_model, "the state")
+        check_same_model(self._model, state.robot_model, "the state", "the viewer's")
         self._require_open()
         restored = self._stop_animation()
         for link in self._links:
@@ -1091,7 +1087,7 @@ class Viewer:
         """Show a planning scene: its robot state, world objects and attached objects."""
         if not isinstance(scene, PlanningScene):
             raise TypeError(f"show_scene takes a PlanningScene, not {type(scene).__name__}")
-        _check_model(self._model, scene.robot_model, "the scene")
+        check_same_model(self._model, scene.robot_model, "the scene", "the viewer's")
         self._require_open()
         self._stop_animation()
         state = scene.current_state
