@@ -1401,11 +1401,8 @@ class PlanningScene:
         args = (*(() if robot_state is None else (robot_state,)), *args, *(() if frame is None else (frame,)))
         if len(args) not in (1, 2):
             raise TypeError("knows_frame_transform takes (frame_id) or (robot_state, frame_id)")
-        if len(args) == 2 and not isinstance(args[0], RobotState):
-            raise TypeError(f"knows_frame_transform(robot_state, frame_id): robot_state must be a RobotState, "
-                            f"not {type(args[0]).__name__}")
         if len(args) == 2:
-            check_same_model(self._model, args[0].robot_model, "knows_frame_transform's robot_state", "the scene's")
+            self._own(args[0], "knows_frame_transform(robot_state, frame_id): robot_state", required=True)
         frame = args[-1]
         if plain_frame(frame) == "":  # (a TypeError for a non-str, as get_frame_transform's)
             return False
@@ -1423,9 +1420,10 @@ class PlanningScene:
             self._env_key = key
         return self._env
 
-    def _own(self, state: RobotState | None, what: str = "state") -> RobotState:
-        """``state`` (None: the current state), checked to be a state of this scene's robot."""
-        if state is None:
+    def _own(self, state: RobotState | None, what: str = "state", required: bool = False) -> RobotState:
+        """``state`` (None: the current state, unless ``required``), checked to be a state of
+        this scene's robot."""
+        if state is None and not required:
             return self._state
         if not isinstance(state, RobotState):
             raise TypeError(f"{what} must be a RobotState, not {type(state).__name__}")
@@ -1494,9 +1492,7 @@ class PlanningScene:
         """
         from mtc.planners.constraints import KinematicConstraintSet
 
-        if state is None:  # (the state is required here, as in moveit_py)
-            raise TypeError("state must be a RobotState, not NoneType")
-        state = self._own(state)
+        state = self._own(state, required=True)  # (as in moveit_py)
         cset = KinematicConstraintSet(self._model, constraints)
         if cset.satisfied(state, self):
             return True
