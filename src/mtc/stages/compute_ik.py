@@ -306,7 +306,7 @@ class ComputeIK(WrapperBase):
 
         try:
             solver = ik_module.get_ik_solver(model, jmg.name, link)
-        except ValueError:
+        except ik_module.UnmovedLinkError:
             # no variable of the group moves the IK frame
             self._fail(s, f"{s.comment} no IK found", markers=failed_markers)
             return
