@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 from typing import Any
 
-__all__ = ["Introspection", "print_state"]
+__all__ = ["Introspection", "print_state", "text_stream"]
 
 
 def text_stream(file, what: str):
