@@ -35,6 +35,7 @@ __all__ = [
     "wrap_angle",
     "shortest_delta",
     "unwrap_path",
+    "check_same_model",
 ]
 
 #: Acceleration limit used where neither the URDF nor ``joint_limits`` gives one [rad/s^2 or m/s^2]
