@@ -465,6 +465,19 @@ def test_explain_failure_names_a_generator_whose_monitored_stage_never_solves():
     assert not t.plan()
     text = _explain(t)
     assert text.startswith("Failing stage(s):\nMON1 (0/0): its monitored stage 'CON1' has no solutions")
+    assert "does that stage wait for this one?" in text
+
+
+def test_explain_failure_says_a_monitored_stage_of_another_task_never_runs():
+    other = core.Task()
+    other.setRobotModel(toy_model())
+    watched = add(other, GeneratorMockup())
+    t = core.Task()
+    t.setRobotModel(toy_model())
+    add(t, MonitoringGeneratorMockup(watched))
+    assert not t.plan()
+    assert _explain(t) == (f"Failing stage(s):\nMON1 (0/0): its monitored stage '{watched.name}' has no "
+                           "solutions: it is not part of this stage's task, so planning this task never runs it\n")
 
 
 def test_task_solution_callbacks_and_task_callbacks(t):

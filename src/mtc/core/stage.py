@@ -803,6 +803,13 @@ class Generator(ComputeBase):
             raise TypeError("spawn() takes (state, cost|solution) or (from_state, to_state, solution)")
 
 
+def _tree_root(stage: Stage) -> Stage:
+    """The top of the tree ``stage`` is in (itself when it has no parent)."""
+    while stage._parent is not None:
+        stage = stage._parent
+    return stage
+
+
 class MonitoringGenerator(Generator):
     """A generator fed by the solutions of another (monitored) stage.
 
@@ -836,6 +843,9 @@ class MonitoringGenerator(Generator):
         monitored = self._monitored
         if monitored is None or monitored._solutions:
             return ""
+        if _tree_root(monitored) is not _tree_root(self):
+            return (f"its monitored stage '{monitored._name}' has no solutions: it is not part of this "
+                    "stage's task, so planning this task never runs it")
         return (f"its monitored stage '{monitored._name}' has no solutions "
                 "(nothing failed: does that stage wait for this one?)")
 
