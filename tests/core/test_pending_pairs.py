@@ -24,6 +24,7 @@ from mockups import (
     new_scene,
 )
 
+from mtc import core
 from mtc.core import InterfaceState, Priority
 from mtc.core import stage as stage_module
 from mtc.core.stage import _PendingPairs
@@ -332,3 +333,58 @@ def test_benchmark_pattern_in_grouped_mode_equals_exact():
     assert len(grouped_calls) == 625
     assert grouped_calls == exact_calls
     assert grouped_costs == exact_costs
+
+
+def _connect_in_unpruned_alternatives(fast: bool, gen_costs, con_costs, bwd_costs):
+    """Pruning on for the task, off for the Alternatives holding the Connect: a status change
+    reaches the Connect's pairs while it is still in the fast mode."""
+    saved = _PendingPairs.FAST
+    _PendingPairs.FAST = fast
+    try:
+        t = make_task()
+        t.pruning = True
+        add(t, BackwardMockup(PredefinedCosts(bwd_costs, False)))
+        add(t, GeneratorMockup(gen_costs, 2))
+        alt = core.Alternatives("alt")
+        con = add(alt, ConnectMockup(PredefinedCosts(con_costs, False)))
+        alt.setPruning(False)
+        t.add(alt)
+        add(t, GeneratorMockup([1.0, 5.0], 1))
+        t.plan()
+        return costs(t.solutions), con.runs
+    finally:
+        _PendingPairs.FAST = saved
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_status_change_ending_the_fast_mode_resorts_the_pairs(fast):
+    """The first state's propagation fails, which disables it (a status change) before the
+    Connect, left unpruned, ever saw a disabled state: the switch to the list must re-sort.
+    Worked by hand (and by an independent implementation of MTC's list): solutions 2 and 8."""
+    assert _connect_in_unpruned_alternatives(fast, [1.0, 0.0], [0.0, 2.0], [1.0, INF]) == ([2.0, 8.0], 2)
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_status_change_ending_the_fast_mode_does_not_lose_pairs(fast):
+    """Every propagation fails, so every start state gets disabled; this raised IndexError in
+    the fast mode's switch to the list. The unpruned Connect still runs its one pair."""
+    assert _connect_in_unpruned_alternatives(fast, [2.0, 2.0], [0.0], [INF]) == ([], 1)
+
+
+@pytest.mark.parametrize("fast", [True, False])
+def test_pruning_switched_on_between_plans_keeps_mtc_order(fast):
+    """plan(1) without pruning, then pruning on and plan on: the cheaper solution is found."""
+    saved = _PendingPairs.FAST
+    _PendingPairs.FAST = fast
+    try:
+        t = make_task()
+        add(t, BackwardMockup(PredefinedCosts([0.0, INF, 1.0], False)))
+        add(t, GeneratorMockup([1.0, 1.0]))
+        con = add(t, ConnectMockup(PredefinedCosts([0.0], False)))
+        add(t, GeneratorMockup([2.0, 1.0]))
+        t.plan(1)
+        t.pruning = True
+        t.plan()
+        assert (costs(t.solutions), con.runs) == ([2.0, 3.0], 2)
+    finally:
+        _PendingPairs.FAST = saved
