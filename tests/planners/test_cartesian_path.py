@@ -309,5 +309,5 @@ def test_invalid_path_constraints(ready_scene):
         orientation_constraints=[msgs.OrientationConstraint(link_name="nowhere", orientation=msgs.Quaternion(w=1.0))]
     )
     result, traj = CartesianPath().plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, "panda_arm", 1.0, bad)
-    assert not result and result.message.startswith("Invalid path constraints")
+    assert not result and result.message.startswith("Invalid path constraints: orientation constraint 0: unknown frame 'nowhere'")
     assert traj is None

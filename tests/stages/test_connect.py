@@ -373,6 +373,22 @@ def test_two_groups_merged(make_task, ready_scene):
     assert traj.duration > 0 and all(b >= a for a, b in zip(traj.times, traj.times[1:]))
 
 
+@pytest.mark.parametrize("link, frame", [("no_such_link", "world"), ("panda_hand", "no_frame")])
+def test_merge_with_path_constraints_the_scene_cannot_set_up_stores_sequentially(make_task, ready_scene, link, frame):
+    """Path constraints on an unknown frame (an object not attached yet): the joint plans ignore
+    them, and the merge cannot check them, so the groups are stored one after the other (MTC's
+    merge skips constraints MoveIt cannot set up); no exception leaves plan()."""
+    planner = JointInterpolationPlanner()
+    c = stages.Connect("c", [("panda_arm", planner), ("hand", planner)])
+    c.path_constraints = msgs.Constraints(orientation_constraints=[msgs.OrientationConstraint(
+        link_name=link, header=msgs.Header(frame_id=frame), orientation=msgs.Quaternion(w=1.0),
+        absolute_x_axis_tolerance=0.1, absolute_y_axis_tolerance=0.1, absolute_z_axis_tolerance=3.14, weight=1.0)])
+    end = goal_scene(ready_scene, hand="close")
+    task = make_task(stages.CurrentState(), c, stages.FixedState("end", end))
+    assert task.plan()
+    assert isinstance(c.solutions[0], core.SolutionSequence) and len(c.solutions[0].solutions) == 2
+
+
 def test_second_group_failure_is_a_sequence_with_the_failed_part(make_task, ready_scene):
     """If a later group fails, the failure keeps the planned parts and a failed last part."""
     c = stages.Connect("c", [("panda_arm", JointInterpolationPlanner()), ("hand", RecordingPlanner(PlannerResult(False, "stuck")))])

@@ -166,7 +166,7 @@ class CartesianPath(PlannerInterface):
         try:
             validity = PathValidity(from_scene, jmg.name, path_constraints)
         except (ValueError, KeyError) as e:
-            return PlannerResult(False, f"Invalid path constraints: {e}"), None
+            return PlannerResult(False, f"Invalid path constraints: {msgs.error_text(e)}"), None
 
         start = from_scene.current_state.copy()
         ik_link, tip_offset = ik.resolve_tip(start, jmg.name, link)

@@ -138,7 +138,7 @@ class JointInterpolationPlanner(PlannerInterface):
         try:
             validity = PathValidity(from_scene, jmg.name, path_constraints)
         except (ValueError, KeyError) as e:
-            return PlannerResult(False, f"Invalid path constraints: {e}"), None
+            return PlannerResult(False, f"Invalid path constraints: {msgs.error_text(e)}"), None
         ik_timeout = timeout if math.isfinite(timeout) else jmg.default_ik_timeout
         try:
             solutions = ik.solve_ik(

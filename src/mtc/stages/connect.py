@@ -252,9 +252,15 @@ class Connect(Connecting):
             log.info("%s: merging failed (%s); storing sequentially", self.name, e)
             return None
         scene = intermediate_scenes[0]
-        if not scene.is_path_valid(merged) or not _satisfies(path_constraints, merged, scene):
+        if not scene.is_path_valid(merged):
             return None
-        return SubTrajectory(merged)
+        try:
+            held = _satisfies(path_constraints, merged, scene)
+        except (KeyError, ValueError) as e:  # constraints the scene cannot set up (unknown frame)
+            log.info("%s: path constraints not checkable on the merged motion (%s); storing sequentially",
+                     self.name, msgs.error_text(e))
+            return None
+        return SubTrajectory(merged) if held else None
 
 
 def _satisfies(constraints: msgs.Constraints, trajectory, scene) -> bool:
