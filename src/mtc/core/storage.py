@@ -20,6 +20,7 @@ from typing import Any
 from mtc import msgs
 from mtc.core.properties import PropertyMap
 from mtc.scene.planning_scene import PlanningScene
+from mtc.scene.robot_trajectory import RobotTrajectory
 
 __all__ = [
     "Interface",
@@ -478,6 +479,30 @@ def state_of(direction: int, solution: "SolutionBase") -> InterfaceState:
 # ----------------------------------------------------------------------------------------
 
 
+def _cost(value) -> float:
+    """A solution's cost as float; anything but a number is a TypeError (as MTC's binding)."""
+    if isinstance(value, float):
+        return value
+    if not isinstance(value, (str, bytes)):
+        try:
+            return float(value)
+        except (TypeError, ValueError):
+            pass
+    raise TypeError(f"a solution's cost must be a number, not {type(value).__name__} ({value!r})")
+
+
+def _comment(value) -> str:
+    if isinstance(value, str):
+        return value
+    raise TypeError(f"a solution's comment must be a str, not {type(value).__name__} ({value!r})")
+
+
+def _trajectory(value):
+    if value is None or isinstance(value, RobotTrajectory):
+        return value
+    raise TypeError(f"a SubTrajectory's trajectory must be an mtc.RobotTrajectory or None, not {type(value).__name__}")
+
+
 class SolutionBase:
     """Common part of all solutions: cost, comment, markers, start/end state and creator."""
 
@@ -485,8 +510,8 @@ class SolutionBase:
 
     def __init__(self, creator=None, cost: float = 0.0, comment: str = ""):
         self._creator = creator
-        self._cost = float(cost)
-        self._comment = comment
+        self._cost = _cost(cost)
+        self._comment = _comment(comment)
         self._markers: list | None = None  # created when first used
         self._start: InterfaceState | None = None
         self._end: InterfaceState | None = None
@@ -512,11 +537,11 @@ class SolutionBase:
 
     @cost.setter
     def cost(self, value: float) -> None:
-        self._cost = float(value)
+        self._cost = _cost(value)
 
     def setCost(self, value: float) -> None:
         """Set the cost."""
-        self._cost = float(value)
+        self._cost = _cost(value)
 
     @property
     def comment(self) -> str:
@@ -525,11 +550,11 @@ class SolutionBase:
 
     @comment.setter
     def comment(self, value: str) -> None:
-        self._comment = str(value)
+        self._comment = _comment(value)
 
     def setComment(self, value: str) -> None:
         """Set the comment."""
-        self._comment = str(value)
+        self._comment = _comment(value)
 
     @property
     def isFailure(self) -> bool:
@@ -545,6 +570,7 @@ class SolutionBase:
             if msg:
                 raise TypeError("markAsFailure() takes the message once: msg or comment=")
             msg = comment
+        msg = _comment(msg)
         self._cost = INF
         if msg:
             self._comment = f"{msg}\n{self._comment}" if self._comment else msg
@@ -607,21 +633,30 @@ class SubTrajectory(SolutionBase):
         comment: Comment.
     """
 
-    __slots__ = ("trajectory",)
+    __slots__ = ("_trajectory",)
 
     def __init__(self, trajectory=None, cost: float = 0.0, comment: str = ""):
         # SolutionBase.__init__ spelled out: one call less for the most common solution
         self._creator = None
-        self._cost = float(cost)
-        self._comment = comment
+        self._cost = cost if type(cost) is float else _cost(cost)
+        self._comment = comment if type(comment) is str else _comment(comment)
         self._markers = None
         self._start = None
         self._end = None
-        self.trajectory = trajectory
+        self._trajectory = None if trajectory is None else _trajectory(trajectory)
+
+    @property
+    def trajectory(self):
+        """The robot trajectory (``mtc.RobotTrajectory``), or None."""
+        return self._trajectory
+
+    @trajectory.setter
+    def trajectory(self, value) -> None:
+        self._trajectory = _trajectory(value)
 
     def setTrajectory(self, trajectory) -> None:
         """Set the trajectory."""
-        self.trajectory = trajectory
+        self._trajectory = _trajectory(trajectory)
 
     @staticmethod
     def failure(msg: str) -> "SubTrajectory":
