@@ -112,6 +112,33 @@ def test_bad_predicate_result_is_an_error(make_task):
         task.plan()
 
 
+def test_an_error_in_the_predicate_names_the_filter_not_its_child(make_task):
+    def predicate(solution):
+        raise ValueError("no way")
+
+    f = stages.PredicateFilter("filter", CostGenerator([1.0]))
+    f.predicate = predicate
+    task = make_task(f)
+    with pytest.raises(ValueError, match="no way") as e:
+        task.plan()
+    assert e.value.__notes__ == ["in stage 'filter'"]
+
+
+@pytest.mark.parametrize("predicate", [lambda s, comment: True, lambda: True])
+def test_a_predicate_not_callable_with_the_solution_alone_is_refused(predicate):
+    """MTC's C++ predicate takes (solution, comment&); here it is predicate(solution), and a
+    (bool, comment) result replaces the comment argument: said where it is set."""
+    f = stages.PredicateFilter("filter")
+    f.predicate = lambda s: True
+    kept = f.predicate
+    with pytest.raises(TypeError, match=r"predicate must take one argument, the solution: predicate\("):
+        f.predicate = predicate
+    with pytest.raises(TypeError, match="return a \\(bool, comment\\) pair"):
+        f.setPredicate(predicate)
+    assert f.predicate is kept
+    f.predicate = print  # (a builtin without a signature is taken as given)
+
+
 def _attach_object(name: str) -> None:
     scene = mtc.current_scene()
     scene.apply_collision_object(

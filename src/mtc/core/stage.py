@@ -547,8 +547,7 @@ class Stage(TypedPropertyAccess):
             # bad input found while computing (a NaN pose, say), or an error in a user's stage:
             # the traceback names the stage (the innermost one; Python 3.11's notes, shown
             # below the message)
-            if hasattr(e, "add_note") and not any(n.startswith("in stage '") for n in getattr(e, "__notes__", ())):
-                e.add_note(f"in stage '{self._name}'")
+            _note_stage(e, self)
             raise
         finally:
             self._total_compute_time += _perf_counter() - start
@@ -631,7 +630,11 @@ class Stage(TypedPropertyAccess):
         if parent is not None:
             cost = solution._cost
             if -INF < cost < INF:
-                parent.onNewSolution(solution)
+                try:
+                    parent.onNewSolution(solution)
+                except Exception as e:  # (a wrapper's own code, e.g. a predicate, raised)
+                    _note_stage(e, parent)
+                    raise
 
     @staticmethod
     def _fresh(state: InterfaceState) -> InterfaceState:
@@ -803,6 +806,13 @@ class Generator(ComputeBase):
             raise TypeError("spawn() takes (state, cost|solution) or (from_state, to_state, solution)")
 
 
+def _note_stage(e: BaseException, stage: Stage) -> None:
+    """Name the stage whose code raised ``e`` (a note below the message), unless a stage
+    nearer to the error has named itself already."""
+    if not any(n.startswith("in stage '") for n in getattr(e, "__notes__", ())):
+        e.add_note(f"in stage '{stage._name}'")
+
+
 def _tree_root(stage: Stage) -> Stage:
     """The top of the tree ``stage`` is in (itself when it has no parent)."""
     while stage._parent is not None:
@@ -857,7 +867,11 @@ class MonitoringGenerator(Generator):
                 # forward only successful solutions
                 cost = solution._cost
                 if -INF < cost < INF:
-                    me.onNewSolution(solution)
+                    try:
+                        me.onNewSolution(solution)
+                    except Exception as e:
+                        _note_stage(e, me)
+                        raise
 
             self._cb = self._monitored.addSolutionCallback(callback)
             self._registered = True

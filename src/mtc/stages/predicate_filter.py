@@ -7,6 +7,7 @@ shows up in ``explainFailure()`` with the predicate's comment, and prunes like a
 
 from __future__ import annotations
 
+import inspect
 import math
 from collections.abc import Callable
 
@@ -22,6 +23,17 @@ def _check_predicate(value):
         raise TypeError(
             f"predicate must be callable as predicate(solution) -> bool | (bool, comment), got {type(value).__name__}"
         )
+    try:
+        signature = inspect.signature(value)
+    except (TypeError, ValueError):  # (some builtins have none: called as given)
+        return value
+    try:
+        signature.bind(None)
+    except TypeError:
+        raise TypeError(
+            f"predicate must take one argument, the solution: predicate{signature} cannot be called as "
+            "predicate(solution) (instead of C++'s comment& argument, return a (bool, comment) pair)"
+        ) from None
     return value
 
 
