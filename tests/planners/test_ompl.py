@@ -765,7 +765,7 @@ def test_pose_goal_in_clutter_gets_more_ik_attempts(blocked, monkeypatch):
     monkeypatch.setattr(ik, "get_ik_solver", lambda *a: FirstTierInvalid(real(*a)))
     result, traj = OMPLPipeline().plan_pose(scene, start, "panda_hand", np.eye(4), target, ARM, timeout=5.0, seed=0)
     assert result, result.message
-    assert calls == [(op.POSE_GOAL_IK_ATTEMPTS, op.POSE_GOAL_SAMPLES), (op.POSE_GOAL_IK_MORE_ATTEMPTS, 1)]
+    assert calls == [(ik.POSE_GOAL_IK_ATTEMPTS, op.POSE_GOAL_SAMPLES), (ik.POSE_GOAL_IK_MORE_ATTEMPTS, 1)]
     np.testing.assert_allclose(traj[-1].get_global_link_transform("panda_hand"), target, atol=1e-4)
     calls.clear()
     far = np.eye(4)

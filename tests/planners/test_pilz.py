@@ -168,6 +168,33 @@ def test_ptp_pose_goal(ready_scene):
     assert np.allclose(traj[-1].get_global_link_transform("panda_hand_tcp"), target, atol=1e-5)
 
 
+@pytest.mark.parametrize("case", ["out of reach", "in collision"])
+def test_ptp_pose_goal_without_valid_ik_fails_after_bounded_attempts(ready_scene, add_box, monkeypatch, case):
+    """A pose goal no valid IK solution reaches fails after the attempts OMPL's pose goals get
+    (more of them only where solutions were found but invalid), not after the timeout."""
+    from mtc.planners import ik
+
+    calls = []
+    solve = ik.solve_ik
+
+    def counting(*args, **kwargs):
+        calls.append(kwargs["max_attempts"])
+        return solve(*args, **kwargs)
+
+    monkeypatch.setattr(ik, "solve_ik", counting)
+    target = ready_scene.current_state.get_global_link_transform("panda_hand_tcp")
+    if case == "out of reach":
+        target[:3, 3] = [1.5, 0.0, 0.5]
+    else:
+        target[:3, 3] = [0.45, 0.3, 0.35]
+        add_box(ready_scene, "block", target[:3, 3], (0.16, 0.16, 0.16))  # (the whole hand)
+    result, traj = _pilz("PTP").plan_to_pose(ready_scene, "panda_hand_tcp", np.eye(4), target, ARM, 30.0)
+    assert not result and traj is None
+    assert result.message == "NO_IK_SOLUTION: no valid IK solution for the goal pose of 'panda_hand_tcp'"
+    expected = [ik.POSE_GOAL_IK_ATTEMPTS] + ([ik.POSE_GOAL_IK_MORE_ATTEMPTS] if case == "in collision" else [])
+    assert calls == expected
+
+
 def test_ptp_collision_on_the_way(ready_scene, add_box):
     """An obstacle on the PTP path fails with the waypoint and the colliding bodies; the valid
     part is returned, ending at rest."""

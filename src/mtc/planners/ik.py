@@ -58,6 +58,14 @@ _DAMPING_FLOOR = 1e-8
 #: An attempt is abandoned after this many iterations without a 5 % decrease of ‖e‖².
 _STALL_ITERATIONS = 3
 _PROGRESS = 0.95
+#: IK attempts (seed, then random restarts) a planner gives the goal pose of a motion request
+#: (OMPL's pose goals, Pilz PTP): bounded so that an unreachable goal fails within
+#: milliseconds, as MoveIt's planners fail their goal IK, instead of spending the timeout.
+POSE_GOAL_IK_ATTEMPTS = 200
+#: Further attempts where those found solutions but no valid one: the valid solutions of a
+#: hand deep in a narrow place can be rare (one MotionBenchMaker-like goal in front of a can
+#: on a cluttered table had none in its first 200 and one among the next 200).
+POSE_GOAL_IK_MORE_ATTEMPTS = 800
 
 
 def as_pose_matrix(pose, state: RobotState | None = None, what: str = "pose") -> np.ndarray:

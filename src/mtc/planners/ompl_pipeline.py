@@ -162,18 +162,12 @@ REPAIR_CHECKS = 10000
 MIN_WAYPOINT_COUNT = 10
 #: IK solutions sampled as goal states of a pose goal.
 POSE_GOAL_SAMPLES = 4
-#: IK attempts (random restarts) for those goals.
-POSE_GOAL_IK_ATTEMPTS = 200
 #: States drawn within the tolerance of an invalid joint goal (MoveIt's goal region) to find
 #: valid goals in its place.
 GOAL_REGION_SAMPLES = 200
 #: A pose goal whose tolerances are wider than this (MoveIt's defaults, 1e-4 m and rad) is
 #: also sampled within its region when IK finds no solution for the exact target at all.
 REGION_WIDER_THAN = 1e-4
-#: Further IK attempts for a first goal where those found none: the valid solutions of a
-#: hand deep in a narrow place can be rare (one MotionBenchMaker-like goal in front of a can
-#: on a cluttered table had none in its first 200 and one among the next 200).
-POSE_GOAL_IK_MORE_ATTEMPTS = 800
 #: Extension step of RRT-family planners [rad, Euclidean]. OMPL's default (0.2 of the maximum
 #: extent, about 2.6 rad for the Panda) makes long edges that are mostly blocked. On the
 #: MotionBenchMaker problems (bench/motion_bench.py, seeds 0 and 1) 0.5 needed the fewest
@@ -1435,10 +1429,10 @@ class OMPLPipeline:
                     goals.append(q[idx].astype(float))
             return goals
 
-        goals = sample(POSE_GOAL_IK_ATTEMPTS, POSE_GOAL_SAMPLES)
+        goals = sample(ik.POSE_GOAL_IK_ATTEMPTS, POSE_GOAL_SAMPLES)
         if not goals and (rejected["invalid"] or rejected["bounds"]):
             # IK solutions, but none valid (a goal in a narrow place): one valid goal from more
-            goals = sample(POSE_GOAL_IK_MORE_ATTEMPTS, 1)
+            goals = sample(ik.POSE_GOAL_IK_MORE_ATTEMPTS, 1)
         if not goals and (rejected["invalid"] or max(pos_tol, rot_tol) > REGION_WIDER_THAN):
             # as MoveIt, whose pose goal is the region within the position and orientation
             # tolerances: poses drawn in it, one IK descent each, until one has a valid solution

@@ -53,7 +53,7 @@ from mtc.planners.time_parameterization import (
 from mtc.scene.frames import rigid_inverse
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_model import shortest_delta, unwrap_path
-from mtc.scene.robot_state import RobotState
+from mtc.scene.robot_state import RobotState, as_rng
 from mtc.scene.robot_trajectory import RobotTrajectory
 
 log = logging.getLogger(__name__)
@@ -244,9 +244,23 @@ class PilzPipeline:
         if planner_id == "PTP":
             def ptp_to_pose():
                 validity = self._validity(scene, jmg.name, path_constraints)
-                ik_timeout = min(max(deadline - time.perf_counter(), 0.0), 1.0)
-                solutions = ik.solve_ik(start, jmg.name, target, tip=link, offset=offset, timeout=ik_timeout,
-                                        is_valid=lambda s: validity(s.positions), rng=seed)
+                rejected = []
+
+                def is_valid(s):
+                    if validity(s.positions):
+                        return True
+                    rejected.append(True)
+                    return False
+
+                rng = as_rng(seed)
+                solutions = []
+                # (as OMPL's pose goals: more attempts only where solutions were found invalid)
+                for attempts in (ik.POSE_GOAL_IK_ATTEMPTS, ik.POSE_GOAL_IK_MORE_ATTEMPTS):
+                    ik_timeout = min(max(deadline - time.perf_counter(), 0.0), 1.0)
+                    solutions = ik.solve_ik(start, jmg.name, target, tip=link, offset=offset, timeout=ik_timeout,
+                                            is_valid=is_valid, rng=rng, max_attempts=attempts)
+                    if solutions or not rejected:
+                        break
                 if not solutions:
                     raise _Failure(error_message(
                         "NO_IK_SOLUTION", f"no valid IK solution for the goal pose of '{link}'"))
