@@ -636,3 +636,21 @@ def test_an_ik_frame_the_group_does_not_move_is_a_failure(make_task, make_planne
     assert not task.plan()
     assert [f.comment for f in m.failures] == [comment + " (variables: panda_joint1, panda_joint2, panda_joint3, "
                                                "panda_joint4, panda_joint5, panda_joint6, panda_joint7)"]
+
+
+@pytest.mark.parametrize("make_planner", [JointInterpolationPlanner, core.CartesianPath,
+                                          lambda: core.PipelinePlanner("ompl"), lambda: _pilz("PTP")],
+                         ids=["joint", "cartesian", "ompl", "ptp"])
+def test_an_unmoved_ik_frame_is_named_as_set_not_by_its_parent_link(make_task, make_planner):
+    """The hand group does not move the tcp: the comment names 'panda_hand_tcp' (the frame set),
+    not 'panda_link7' (the link the planners place with an offset)."""
+    m = stages.MoveTo("move", make_planner())
+    m.group = "hand"
+    m.setIKFrame("panda_hand_tcp")
+    m.setGoal(msgs.PoseStamped(header=msgs.Header(frame_id="world"),
+                               pose=msgs.Pose(position=msgs.Point(x=0.45, y=0.1, z=0.35), orientation=msgs.Quaternion(w=1.0))))
+    task = make_task(stages.CurrentState("current"), m)
+    assert not task.plan()
+    (comment,) = [f.comment for f in m.failures]
+    assert "link 'panda_hand_tcp' is not moved by group 'hand' (variables: panda_finger_joint1)" in comment
+    assert "panda_link7" not in comment

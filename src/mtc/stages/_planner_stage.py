@@ -32,8 +32,9 @@ def plan_to_ik_frame(planner, scene, ik, target, group: str, timeout: float, pat
     result, trajectory = planner.plan_to_pose(scene, ik.link, ik.offset, target, group, timeout, path_constraints)
     message = planner_message(result)
     if not result and ik.name and ik.name != ik.link:
-        # the planners' "for '<link>'" / "of '<link>'" (not, say, a constraint "on '<link>'")
-        for word in ("for", "of"):
+        # the planners' "for '<link>'" / "of '<link>'" / "link '<link>' is not moved" (not, say,
+        # a constraint "on '<link>'")
+        for word in ("for", "of", "link"):
             message = message.replace(f"{word} '{ik.link}'", f"{word} '{ik.name}'")
         if message != planner_message(result):
             result = PlannerResult(False, message)
