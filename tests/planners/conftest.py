@@ -45,3 +45,51 @@ def _add_box(scene: PlanningScene, name: str, position, size=(0.1, 0.1, 0.1)) ->
 def add_box():
     """``add_box(scene, name, position, size=(0.1, 0.1, 0.1))``: put a box into a scene."""
     return _add_box
+
+
+@pytest.fixture
+def rod_past_a_pin(panda):
+    """``rod_past_a_pin(pin=True)``: (scene, goal scene): the closed hand holds a 60 cm rod
+    (2 mm radius) along its x axis; turning ``panda_joint7`` by -1.5 rad sweeps the rod through
+    a 2 mm pin standing 29 cm from the tcp. The pin lies between two waypoints of the Cartesian
+    and Pilz motions, which a check of the waypoints alone misses."""
+    import math
+
+    def make(pin: bool = True):
+        scene = PlanningScene(panda)
+        state = scene.current_state
+        state.set_to_default_values("panda_arm", "ready")
+        state.set_to_default_values("hand", "close")
+        quarter = msgs.Quaternion(y=math.sin(math.pi / 4), w=math.cos(math.pi / 4))
+        scene.apply_collision_object(msgs.CollisionObject(
+            id="rod", header=msgs.Header(frame_id="panda_hand_tcp"),
+            primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.CYLINDER, dimensions=[0.6, 0.002])],
+            primitive_poses=[msgs.Pose(orientation=quarter)]))
+        scene.attach_object("rod", "panda_hand", ["panda_leftfinger", "panda_rightfinger", "panda_hand"])
+        if pin:
+            tcp = state.get_global_link_transform("panda_hand_tcp")[:3, 3]
+            at = tcp + 0.29 * np.array([math.cos(0.7313), math.sin(0.7313), 0.0])
+            scene.apply_collision_object(msgs.CollisionObject(
+                id="pin", header=msgs.Header(frame_id="world"),
+                primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.CYLINDER, dimensions=[0.04, 0.002])],
+                primitive_poses=[msgs.Pose(position=msgs.Point(*at), orientation=msgs.Quaternion(w=1.0))]))
+        assert not scene.is_state_colliding()
+        goal = scene.diff()
+        goal.current_state.joint_positions = {"panda_joint7": goal.current_state.joint_positions["panda_joint7"] - 1.5}
+        return scene, goal
+
+    return make
+
+
+def first_collision_between_waypoints(scene: PlanningScene, traj, resolution: float = 1e-3):
+    """The first state, on the straight lines between ``traj``'s waypoints stepped at most
+    ``resolution`` [rad] per joint, that collides in ``scene`` (None: all free)."""
+    state = scene.current_state.copy()
+    for i in range(len(traj) - 1):
+        a, b = traj[i].positions, traj[i + 1].positions
+        n = max(1, int(np.ceil(np.abs(b - a).max() / resolution)))
+        for k in range(n + 1):
+            state.positions = a + (b - a) * (k / n)
+            if scene.is_state_colliding(state):
+                return state
+    return None

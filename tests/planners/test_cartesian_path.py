@@ -311,3 +311,20 @@ def test_invalid_path_constraints(ready_scene):
     result, traj = CartesianPath().plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, "panda_arm", 1.0, bad)
     assert not result and result.message.startswith("Invalid path constraints: orientation constraint 0: unknown frame 'nowhere'")
     assert traj is None
+
+
+def test_a_thin_obstacle_between_waypoints_ends_the_path(rod_past_a_pin):
+    """A held rod swept through a thin pin between two waypoints (a wrist turn: few waypoints):
+    the motion between waypoints is checked too, so the path ends before the pin, as at a
+    colliding waypoint (MoveIt checks the waypoints only and would go through)."""
+    from conftest import first_collision_between_waypoints
+
+    free_scene, free_goal = rod_past_a_pin(pin=False)
+    result, traj = CartesianPath().plan(free_scene, free_goal, "panda_arm", 1.0)
+    assert result and len(traj) >= 3  # (without the pin the same turn succeeds)
+    scene, goal = rod_past_a_pin()
+    assert first_collision_between_waypoints(scene, traj) is not None  # (those waypoints would hit it)
+    result, traj = CartesianPath().plan(scene, goal, "panda_arm", 1.0)
+    assert not result and result.message.startswith("CartesianPath: min_fraction not met. Achieved: ")
+    assert 0.0 < float(result.message.rsplit(" ", 1)[1]) < 1.0
+    assert first_collision_between_waypoints(scene, traj) is None

@@ -585,3 +585,21 @@ def test_reproducible(ready_scene):
     a = _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)[1]
     b = _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)[1]
     assert np.array_equal(a.positions, b.positions) and np.array_equal(a.times, b.times)
+
+
+@pytest.mark.parametrize("planner_id", ["PTP", "LIN"])
+def test_a_thin_obstacle_between_waypoints_fails_the_motion(rod_past_a_pin, planner_id):
+    """Pilz samples its motion every sampling_time; the motion between the samples is checked
+    too (MoveIt's Pilz checks the samples only): a held rod swept through a thin pin fails."""
+    from conftest import first_collision_between_waypoints
+
+    free_scene, free_goal = rod_past_a_pin(pin=False)
+    result, traj = _pilz(planner_id).plan(free_scene, free_goal, ARM, 5.0)
+    assert result  # (without the pin the same turn succeeds)
+    scene, goal = rod_past_a_pin()
+    assert first_collision_between_waypoints(scene, traj) is not None
+    result, part = _pilz(planner_id).plan(scene, goal, ARM, 5.0)
+    assert not result
+    assert result.message.startswith("INVALID_MOTION_PLAN: the motion from waypoint ")
+    assert result.message.endswith(f" of {len(traj)} is in collision")
+    assert part is None or first_collision_between_waypoints(scene, part) is None

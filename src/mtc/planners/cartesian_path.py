@@ -8,7 +8,8 @@ by joint interpolation, so that motion is checked against the line (MoveIt's
 more than ``precision.translational`` [m] or ``precision.rotational`` [rad], the step is split
 in two, recursively, down to ``precision.max_resolution`` (a fraction of the whole path). A joint
 jump (IK switching to another branch) shows up as such a deviation and ends the path. So does a
-waypoint that collides or violates the path constraints: the trajectory then ends at the last
+waypoint that collides or violates the path constraints, or a collision on the motion from the
+waypoint before it (MoveIt checks the waypoints only): the trajectory then ends at the last
 valid waypoint and its *fraction* tells how far along the line it got.
 """
 
@@ -200,6 +201,10 @@ class CartesianPath(PlannerInterface):
             return float(np.linalg.norm(pin.log3(expected.rotation.T @ actual.rotation))) <= precision.rotational
 
         waypoints: list[tuple[float, np.ndarray]] = [(0.0, start.positions.copy())]
+        # (the start is not checked, as MoveIt's: a start touching an obstacle may move away
+        # from it, so the motion from a colliding start is not checked either)
+        start_q = waypoints[0][1]
+        start_free = validity.collision_free(start_q)
 
         def reach(qa: np.ndarray, ta: float, tb: float) -> bool:
             """Append waypoints from (ta, qa) up to tb; False where the path must end."""
@@ -209,6 +214,10 @@ class CartesianPath(PlannerInterface):
             if not validity(qb):
                 return False
             if precise(qa, qb, ta, tb):
+                # the motion between the waypoints too (MoveIt checks the waypoints only): a
+                # thin obstacle between two of them ends the path as a colliding waypoint does
+                if (qa is not start_q or start_free) and not validity.motion_free(qa, qb):
+                    return False
                 waypoints.append((tb, qb))
                 return True
             if tb - ta < precision.max_resolution:

@@ -26,7 +26,8 @@ Scaling factors outside Pilz's range (0.0001, 1] fail the request (``INVALID_MOT
 in MoveIt's Pilz; 0 does too (MoveIt's time parameterization reads it as 1.0, Pilz does not).
 
 Every waypoint is checked for collisions (for the group) and against path constraints (PTP,
-LIN); the first failing one ends planning with a message saying which waypoint and which
+LIN), and the motion from the waypoint before it is proven collision-free (MoveIt's Pilz checks
+the waypoints only); the first failing one ends planning with a message saying which waypoint and which
 bodies, after MoveIt's error-code name (``"INVALID_MOTION_PLAN: ..."``). The part of the path
 before it is returned, re-timed to end at rest, so stages can show it or measure its length.
 """
@@ -354,6 +355,8 @@ class PilzPipeline:
             raise _Failure(error_message("GOAL_VIOLATES_PATH_CONSTRAINTS"))
 
     def _check_path(self, validity: PathValidity, Q: list[np.ndarray], skip_constraints=False) -> None:
+        """Each waypoint, and the motion from the one before (MoveIt's Pilz checks the
+        waypoints only): the first that fails, with the waypoints before it."""
         n = len(Q)
         for k, q in enumerate(Q):
             if not validity.collision_free(q):
@@ -364,6 +367,11 @@ class PilzPipeline:
             if not skip_constraints and not validity.constraints_satisfied(q):
                 raise _Failure(
                     error_message("INVALID_MOTION_PLAN", f"waypoint {k} of {n} violates the path constraints"), Q[:k]
+                )
+            if k and not validity.motion_free(Q[k - 1], q):
+                raise _Failure(
+                    error_message("INVALID_MOTION_PLAN", f"the motion from waypoint {k - 1} to {k} of {n} is in collision"),
+                    Q[:k],
                 )
 
     def _part_way(self, validity: PathValidity, message: str, Q: list[np.ndarray], skip_constraints: bool) -> _Failure:
