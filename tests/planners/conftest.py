@@ -81,7 +81,14 @@ def rod_past_a_pin(panda):
     return make
 
 
-def first_collision_between_waypoints(scene: PlanningScene, traj, resolution: float = 1e-3):
+@pytest.fixture
+def first_collision_between_waypoints():
+    """``first_collision_between_waypoints(scene, traj, resolution=1e-3)``, see
+    :func:`_first_collision_between_waypoints`."""
+    return _first_collision_between_waypoints
+
+
+def _first_collision_between_waypoints(scene: PlanningScene, traj, resolution: float = 1e-3):
     """The first state, on the straight lines between ``traj``'s waypoints stepped at most
     ``resolution`` [rad] per joint, that collides in ``scene`` (None: all free)."""
     state = scene.current_state.copy()

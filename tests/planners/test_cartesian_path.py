@@ -313,12 +313,10 @@ def test_invalid_path_constraints(ready_scene):
     assert traj is None
 
 
-def test_a_thin_obstacle_between_waypoints_ends_the_path(rod_past_a_pin):
+def test_a_thin_obstacle_between_waypoints_ends_the_path(rod_past_a_pin, first_collision_between_waypoints):
     """A held rod swept through a thin pin between two waypoints (a wrist turn: few waypoints):
     the motion between waypoints is checked too, so the path ends before the pin, as at a
     colliding waypoint (MoveIt checks the waypoints only and would go through)."""
-    from conftest import first_collision_between_waypoints
-
     free_scene, free_goal = rod_past_a_pin(pin=False)
     result, traj = CartesianPath().plan(free_scene, free_goal, "panda_arm", 1.0)
     assert result and len(traj) >= 3  # (without the pin the same turn succeeds)

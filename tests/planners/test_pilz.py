@@ -588,11 +588,9 @@ def test_reproducible(ready_scene):
 
 
 @pytest.mark.parametrize("planner_id", ["PTP", "LIN"])
-def test_a_thin_obstacle_between_waypoints_fails_the_motion(rod_past_a_pin, planner_id):
+def test_a_thin_obstacle_between_waypoints_fails_the_motion(rod_past_a_pin, first_collision_between_waypoints, planner_id):
     """Pilz samples its motion every sampling_time; the motion between the samples is checked
     too (MoveIt's Pilz checks the samples only): a held rod swept through a thin pin fails."""
-    from conftest import first_collision_between_waypoints
-
     free_scene, free_goal = rod_past_a_pin(pin=False)
     result, traj = _pilz(planner_id).plan(free_scene, free_goal, ARM, 5.0)
     assert result  # (without the pin the same turn succeeds)
