@@ -105,6 +105,19 @@ def test_enums_and_nested_names():
     assert (msgs.SolidPrimitive.BOX, msgs.SolidPrimitive.SPHERE, msgs.SolidPrimitive.CYLINDER, msgs.SolidPrimitive.CONE) == (1, 2, 3, 4)
 
 
+def test_enums_print_as_pybind_prints_mtcs():
+    """str() and format() give 'Class.MEMBER' (Python 3.11's IntEnum would print the number),
+    repr() the class's public name; the values stay numbers."""
+    Source = core.Stage.PropertyInitializerSource
+    assert str(stages.MergeMode.WAYPOINTS) == f"{stages.MergeMode.WAYPOINTS}" == "MergeMode.WAYPOINTS"
+    assert stages.Connect("c", []).merge_mode == 1 and str(stages.Connect("c", []).merge_mode) == "MergeMode.WAYPOINTS"
+    assert repr(core.PropagatingEitherWay.Direction.FORWARD) == "<Direction.FORWARD: 1>"
+    assert str(core.TrajectoryCostTerm.Mode.AUTO) == "Mode.AUTO"
+    assert str(stages.PoseDimension.YAW) == "PoseDimension.YAW"
+    assert str(Source.PARENT) == "PropertyInitializerSource.PARENT"
+    assert int(Source.PARENT | Source.INTERFACE) == 6 and stages.PoseDimension.Z + 1 == 3
+
+
 def test_error_codes_and_constructor_defaults():
     """MoveItErrorCode values and truthiness; constructors with MTC's C++ defaults (api.md)."""
     assert core.MoveItErrorCode(1) and not core.MoveItErrorCode(-1)

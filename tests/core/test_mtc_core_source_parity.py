@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 from mockups import (
     ConnectMockup,
@@ -343,6 +344,8 @@ def test_property_set_value_converts_as_the_map_does():
         with pytest.raises(TypeError, match="no conversion available for property type"):
             p.setCurrentValue(value)
     assert p.value() == 2 and p.defaultValue() == 2
+    with pytest.raises(TypeError, match="no conversion available for property type numpy.bool "):
+        p.setValue(np.bool_(True))  # (named so that the message does not refuse a "bool")
     typed = core.Property(list)
     typed.setValue([1, 2])
     typed.setCurrentValue([3])

@@ -284,7 +284,7 @@ def test_fixed_cartesian_poses_refuse_a_nan_pose():
     fixed = stages.FixedCartesianPoses("poses")
     good = msgs.PoseStamped(header=msgs.Header(frame_id="world"), pose=msgs.Pose(orientation=msgs.Quaternion(w=1.0)))
     fixed.addPose(good)
-    with pytest.raises(ValueError, match=re_escape("poses[0]: PoseStamped.pose.position.y must be finite")):
+    with pytest.raises(ValueError, match=re_escape("poses[1]: PoseStamped.pose.position.y must be finite")):
         fixed.addPose(msgs.PoseStamped(pose=msgs.Pose(position=msgs.Point(y=NAN))))
     with pytest.raises(ValueError, match=re_escape("poses[1]: PoseStamped.pose.position.x must be finite")):
         fixed.poses = [good, msgs.PoseStamped(pose=msgs.Pose(position=msgs.Point(x=INF)))]

@@ -18,10 +18,10 @@ import inspect
 import logging
 import math
 from collections.abc import Callable, Iterable, Mapping, Sequence
-from enum import IntEnum
 
 import numpy as np
 
+from mtc.core.properties import BindingEnum
 from mtc import msgs
 from mtc.core.storage import SolutionSequence, WrappedSolution
 
@@ -127,7 +127,7 @@ class TrajectoryCostTerm(CostTerm):
     comments of the parts are joined with ", ".
     """
 
-    class Mode(IntEnum):
+    class Mode(BindingEnum):
         """Which part of a solution a term looks at."""
 
         AUTO = 0  # the trajectory if there is one, else the start state

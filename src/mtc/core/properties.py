@@ -17,7 +17,7 @@ import copy
 import math
 import numbers
 from collections.abc import Callable, Iterable, Mapping
-from enum import IntFlag
+from enum import Enum, Flag, IntEnum, IntFlag
 from typing import Any
 
 import numpy as np
@@ -117,14 +117,24 @@ def _convertible(value, what: str) -> None:
     if isinstance(value, msgs._Message) and getattr(type(value), "_PROPERTY_TYPE", True):
         return
     raise TypeError(
-        f"{what}: no conversion available for property type {type(value).__name__} "
+        f"{what}: no conversion available for property type {_value_type_name(value)} "
         "(allowed: bool, int, float, str or a message of mtc.msgs other than MotionPlanRequest; "
         "use the stage's attribute or PropertyMap.set() for other declared types)"
     )
 
 
+class BindingEnum(IntEnum):
+    """An IntEnum that prints as pybind11 prints MTC's enums: ``str()`` gives
+    ``'MergeMode.WAYPOINTS'`` (Python 3.11's IntEnum gives ``'1'``); ``int()``, comparisons and
+    ``format()`` stay those of the number."""
+
+    __str__ = Enum.__str__
+
+
 class PropertyInitializerSource(IntFlag):
     """Where a property may be initialized from (MTC's ``Stage::PropertyInitializerSource``)."""
+
+    __str__ = Flag.__str__  # (as BindingEnum's)
 
     DEFAULT = 0
     MANUAL = 1
@@ -316,7 +326,9 @@ def _owned(value):
 
 
 def _value_type_name(value) -> str:
-    return type(value).__name__
+    kind = type(value)
+    # numpy's scalars by their full names: "numpy.bool", not a "bool" that is not allowed
+    return f"numpy.{kind.__name__}" if kind.__module__ == "numpy" else kind.__name__
 
 
 class Property:
@@ -405,7 +417,11 @@ class Property:
         holds as a manual value, in place: one copy per call where ``set`` would copy the
         whole list (a stage's ``addPose`` called for many poses)."""
         if self._initialized_from == _SET_VALUE and isinstance(self._value, list):
-            self._value.extend(self._check([item]))
+            try:
+                checked = self._check([item])
+            except (TypeError, ValueError) as e:  # (named as the item it would have become)
+                raise type(e)(str(e).replace("[0]", f"[{len(self._value)}]", 1)) from None
+            self._value.extend(checked)
         else:
             self._setValue([*(self.value() or []), item])
 

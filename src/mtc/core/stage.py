@@ -25,12 +25,12 @@ import time
 from bisect import bisect_left, bisect_right
 from heapq import heapify, heappop, heappush, heapreplace
 from collections.abc import Callable, Iterable
-from enum import IntEnum
 
 import numpy as np
 
 from mtc.core.cost_terms import CostTerm, as_cost_term
 from mtc.core.properties import (
+    BindingEnum,
     PropertyError,
     PropertyInitializerSource,
     PropertyMap,
@@ -891,7 +891,9 @@ class MonitoringGenerator(Generator):
         pass
 
 
-class _Direction(IntEnum):
+class Direction(BindingEnum):
+    """The direction of a PropagatingEitherWay (MTC's ``PropagatingEitherWay::Direction``)."""
+
     AUTO = 0
     FORWARD = 1
     BACKWARD = 2
@@ -906,27 +908,27 @@ class PropagatingEitherWay(ComputeBase):
     override ``compute(state, direction)`` returning ``(success, end_scene, sub_trajectory)``.
     """
 
-    Direction = _Direction
-    AUTO = _Direction.AUTO
-    FORWARD = _Direction.FORWARD
-    BACKWARD = _Direction.BACKWARD
+    Direction = Direction
+    AUTO = Direction.AUTO
+    FORWARD = Direction.FORWARD
+    BACKWARD = Direction.BACKWARD
 
     def __init__(self, name: str = "PropagatingEitherWay"):
         super().__init__(name)
-        self._configured_dir = _Direction.AUTO
+        self._configured_dir = Direction.AUTO
         self._required_interface = UNKNOWN
-        self._initInterface(_Direction.AUTO)
+        self._initInterface(Direction.AUTO)
 
     def requiredInterface(self) -> int:
         return self._required_interface
 
     def _initInterface(self, direction: int) -> None:
-        if direction == _Direction.FORWARD:
+        if direction == Direction.FORWARD:
             self._required_interface = PROPAGATE_FORWARDS
             if self._starts is None:  # keep an existing interface
                 self._starts = Interface()
             self._ends = None
-        elif direction == _Direction.BACKWARD:
+        elif direction == Direction.BACKWARD:
             self._required_interface = PROPAGATE_BACKWARDS
             self._starts = None
             if self._ends is None:
@@ -940,10 +942,10 @@ class PropagatingEitherWay(ComputeBase):
         Raises:
             RuntimeError: A different direction was configured before.
         """
-        direction = _Direction(int(direction))
+        direction = Direction(int(direction))
         if self._configured_dir == direction:
             return
-        if self._configured_dir != _Direction.AUTO:
+        if self._configured_dir != Direction.AUTO:
             raise RuntimeError("Cannot change direction after being connected")
         self._configured_dir = direction
         self._initInterface(direction)
@@ -952,14 +954,14 @@ class PropagatingEitherWay(ComputeBase):
         if expected == UNKNOWN:
             raise InitStageError(self, "cannot initialize to unknown interface")
         if (expected & START_IF_MASK) == READS_START or (expected & END_IF_MASK) == WRITES_NEXT_START:
-            direction = _Direction.FORWARD
+            direction = Direction.FORWARD
         elif (expected & START_IF_MASK) == WRITES_PREV_END or (expected & END_IF_MASK) == READS_END:
-            direction = _Direction.BACKWARD
+            direction = Direction.BACKWARD
         else:
             raise InitStageError(
                 self, f"propagator cannot satisfy expected interface {_start_sym(expected)} {_end_sym(expected)}"
             )
-        if self._configured_dir != _Direction.AUTO and direction != self._configured_dir:
+        if self._configured_dir != Direction.AUTO and direction != self._configured_dir:
             req = self._required_interface
             raise InitStageError(
                 self,
@@ -1037,7 +1039,7 @@ class PropagatingForward(PropagatingEitherWay):
 
     def __init__(self, name: str = "PropagatingForward"):
         super().__init__(name)
-        self.restrictDirection(_Direction.FORWARD)
+        self.restrictDirection(Direction.FORWARD)
 
     def computeBackward(self, to_state: InterfaceState) -> None:
         raise RuntimeError(f"{self._name}: a forward propagator never computes backward")
@@ -1048,7 +1050,7 @@ class PropagatingBackward(PropagatingEitherWay):
 
     def __init__(self, name: str = "PropagatingBackward"):
         super().__init__(name)
-        self.restrictDirection(_Direction.BACKWARD)
+        self.restrictDirection(Direction.BACKWARD)
 
     def computeForward(self, from_state: InterfaceState) -> None:
         raise RuntimeError(f"{self._name}: a backward propagator never computes forward")

@@ -14,11 +14,10 @@ import math
 from bisect import bisect_left, bisect_right
 from collections.abc import Callable, Iterable
 from contextlib import contextmanager
-from enum import IntEnum
 from typing import Any
 
 from mtc import msgs
-from mtc.core.properties import PropertyMap
+from mtc.core.properties import BindingEnum, PropertyMap
 from mtc.scene.planning_scene import PlanningScene
 from mtc.scene.robot_trajectory import RobotTrajectory
 
@@ -38,7 +37,7 @@ INF = math.inf
 _new_tuple = tuple.__new__
 
 
-class Status(IntEnum):
+class Status(BindingEnum):
     """State status used by pruning: ENABLED states are computed, ARMED/PRUNED are not."""
 
     ENABLED = 0

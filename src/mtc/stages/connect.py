@@ -9,8 +9,8 @@ trajectories are merged into one (``MergeMode.WAYPOINTS``) or kept as a sequence
 from __future__ import annotations
 
 import logging
-from enum import IntEnum
 
+from mtc.core.properties import BindingEnum
 from mtc import msgs
 from mtc.core.container import MergeError, merge_trajectories, overlapping_joints
 from mtc.core.cost_terms import PathLength
@@ -28,7 +28,7 @@ log = logging.getLogger(__name__)
 _JOINT_TOLERANCE = 1e-4
 
 
-class MergeMode(IntEnum):
+class MergeMode(BindingEnum):
     """How Connect combines the trajectories of several groups."""
 
     SEQUENTIAL = 0  #: one sub-solution per group, one after the other

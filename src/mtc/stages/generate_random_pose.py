@@ -20,19 +20,18 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable
-from enum import IntEnum
 
 import numpy as np
 
 from mtc import msgs
-from mtc.core.properties import unsigned_int
+from mtc.core.properties import BindingEnum, unsigned_int
 from mtc.core.storage import InterfaceState, SubTrajectory
 from mtc.stages.generate_pose import GeneratePose, copy_pose_stamped, frame_marker, pose_stamped
 
 __all__ = ["GenerateRandomPose", "PoseDimension"]
 
 
-class PoseDimension(IntEnum):
+class PoseDimension(BindingEnum):
     """A dimension of a pose to sample (MTC's ``GenerateRandomPose::PoseDimension``)."""
 
     X = 0
