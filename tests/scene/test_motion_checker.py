@@ -97,6 +97,61 @@ def test_motion_bounds_hold_for_random_motions(scene):
     assert worst > 0.3  # the bounds are not absurdly loose
 
 
+def test_speed_bounds_hold_along_random_motions(scene):
+    """``motion_margins``' speed bounds: along random arm motions, no point of a robot geometry
+    or of an object attached to the hand moves faster than its bound anywhere within ``half``
+    of the sampled states (finite differences of its hull points), the bounds are never above
+    the bounds over every configuration, and they are well below them on the hand."""
+    state = scene.current_state
+    hand = state.get_global_link_transform("panda_hand")
+    _box(scene, "tool", hand[:3, 3] + hand[:3, 2] * 0.2, (0.04, 0.04, 0.25))
+    scene.attach_object("tool", "panda_hand", ["panda_leftfinger", "panda_rightfinger"])
+    _box(scene, "far", (3.0, 0.0, 0.5), (0.1, 0.1, 0.1))  # a world body: its pairs' margins are the bounds
+    checker = scene.motion_checker(ARM)
+    env = scene._collision_env()
+    model = scene.robot_model
+    pm, gm = env.pm, env.geom_model
+    data, gd = pm.createData(), gm.createData()
+    points = [_geometry_points(go.geometry) for go in gm.geometryObjects]
+    moving = [g for g, go in enumerate(gm.geometryObjects) if go.parentJoint != 0]
+    assert any(gm.geometryObjects[g].name.startswith("tool") for g in moving)
+    hand_g = [g for g, go in enumerate(gm.geometryObjects) if go.name.startswith("panda_hand")][0]
+    world = np.array([kind == "world" for kind in env.kinds])
+    rng = np.random.default_rng(5)
+    lo, hi = model.lower_bounds[:7], model.upper_bounds[:7]
+    base = state.positions.copy()
+    ratios, tightness = [], []
+    h = 1e-6
+    for _ in range(40):
+        qa = base.copy()
+        qa[:7] = rng.uniform(lo, hi)
+        d = np.zeros_like(qa)
+        d[:7] = rng.normal(size=7) * rng.uniform(0.05, 1.5)
+        n = max(1, math.ceil(float(np.abs(d).max()) / 0.06))  # the OMPL pipeline's intervals
+        mids = (np.arange(n) + 0.5) / n
+        half = 0.5 / n
+        margins = checker.motion_margins(qa, d, mids, half)
+        everywhere = checker.margins(d)
+        assert np.all(margins <= everywhere + 1e-12)
+        speed = margins[world].max(axis=0)  # a robot geometry's bound against the world
+        tightness.append(speed[hand_g] / everywhere[world][:, hand_g].max())
+        for t in rng.uniform(0.0, 1.0, 4):
+            moved = []
+            for tt in (t, t + h):
+                pin.updateGeometryPlacements(pm, data, gm, gd, qa + tt * d)
+                moved.append([(gd.oMg[g].rotation @ points[g].T).T + gd.oMg[g].translation for g in moving])
+            for i, g in enumerate(moving):
+                v = float(np.linalg.norm(moved[1][i] - moved[0][i], axis=1).max()) / h
+                ratios.append(v / speed[g] if speed[g] > 0 else 0.0)
+                assert v <= speed[g] * (1 + 1e-5) + 1e-9, gm.geometryObjects[g].name
+    assert max(ratios) > 0.5  # the bounds are not absurdly loose
+    assert np.median(tightness) < 0.6  # and tighter than the bounds over every configuration
+    # a motion of the fingers (prismatic): the bounds over every configuration
+    d = np.zeros_like(base)
+    d[7:] = 0.01
+    assert np.array_equal(checker.motion_margins(base, d, np.array([0.5]), 0.5), checker.margins(d))
+
+
 def test_clear_is_a_distance_test(scene):
     """``clear(q, margins)`` is False exactly when some pair is closer than its margin."""
     _cluttered(scene)
@@ -281,6 +336,25 @@ def test_a_dropped_robot_model_is_freed():
     scene = PlanningScene(model)
     checker = scene.motion_checker("group")
     assert checker.certifiable  # the bounds were built (and cached)
+    ref = weakref.ref(model)
+    del scene, checker, model
+    gc.collect()
+    assert ref() is None
+
+
+def test_a_dropped_robot_model_is_freed_after_motion_proofs():
+    """Nor do the speed bounds of motion proofs (made per robot model at the first proof)."""
+    from mtc.robots import PANDA_JOINT_LIMITS, PANDA_SRDF, panda_urdf_path
+
+    model = RobotModel(panda_urdf_path(), PANDA_SRDF, joint_limits=PANDA_JOINT_LIMITS)
+    scene = PlanningScene(model)
+    scene.current_state.set_to_default_values(ARM, "ready")
+    checker = scene.motion_checker(ARM)
+    qa = scene.current_state.positions.copy()
+    qb = qa.copy()
+    qb[0] += 0.5
+    assert checker.motion_free(qa, qb, 8)[0]
+    assert checker._speed  # the speed bounds were made (and their robot part cached)
     ref = weakref.ref(model)
     del scene, checker, model
     gc.collect()

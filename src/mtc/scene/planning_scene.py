@@ -14,6 +14,7 @@ import copy
 import logging
 import math
 import os
+import threading
 import weakref
 from dataclasses import dataclass, field, replace
 
@@ -684,6 +685,178 @@ CONTACT_MARGIN = GJK_TOLERANCE
 _COMBINED_GEOMETRIES = 200
 
 
+class _RobotSpeedModel:
+    """What :class:`_SpeedBound` needs of a robot model, made once per model (see
+    :func:`_robot_speed_model`): a copy of its Pinocchio model with three motionless revolute
+    joints (x, y and z axes) at the origin of each of its joints' bodies, and per collision
+    geometry its body, centre, radius and second-order bound (:meth:`geometry_rows`)."""
+
+    def __init__(self, model: RobotModel):
+        pm = model.pinocchio_model
+        self._model = weakref.ref(model)  # (the cache is keyed by the model, weakly)
+        self.aug = pm.copy()
+        for b in range(1, pm.njoints):
+            jx = self.aug.addJoint(b, pin.JointModelRX(), pin.SE3.Identity(), f"_speed_x{b}")
+            jy = self.aug.addJoint(jx, pin.JointModelRY(), pin.SE3.Identity(), f"_speed_y{b}")
+            self.aug.addJoint(jy, pin.JointModelRZ(), pin.SE3.Identity(), f"_speed_z{b}")
+        self.support = np.zeros((pm.nv, pm.njoints - 1))  # the variables that move each body
+        for b in range(1, pm.njoints):
+            for j in list(pm.supports[b])[1:]:
+                self.support[pm.joints[int(j)].idx_v, b - 1] = 1.0
+        self.prismatic = np.array([pm.joints[j].idx_v for j in range(1, pm.njoints)
+                                   if pm.joints[j].shortname() in PRISMATIC_JOINTS], dtype=int)
+        self.robot = self.geometry_rows(model.collision_model.geometryObjects)
+        self.robot_map = self.centre_map(*self.robot[:2])
+        self._local = threading.local()  # per thread: Pinocchio data and buffers of speeds()
+
+    def buffers(self, k: int):
+        """This thread's Pinocchio data of :attr:`aug` and buffers for ``k`` states (joint
+        vectors, their Jacobians)."""
+        local = self._local
+        data = getattr(local, "data", None)
+        if data is None:
+            data = local.data = self.aug.createData()
+            local.qs = np.zeros((16, self.aug.nq))
+            local.js = np.empty((16, 6, self.aug.nv))
+        if k > len(local.qs):
+            local.qs = np.zeros((max(k, 2 * len(local.qs)), self.aug.nq))
+            local.js = np.empty((len(local.qs), 6, self.aug.nv))
+        return data, local.qs[:k], local.js[:k]
+
+    def centre_map(self, body: np.ndarray, centre: np.ndarray) -> np.ndarray:
+        """The matrix taking (the velocities of the bodies' origins, their angular velocities),
+        in their own axes, to the velocities of the moving geometries' centres (``u + w x c``)."""
+        moving = np.nonzero(body >= 0)[0]
+        nb, n = self.support.shape[1], len(moving)
+        out = np.zeros((2, nb, 3, n, 3))
+        for i, g in enumerate(moving.tolist()):
+            out[0, body[g], :, i, :] = np.eye(3)
+            out[1, body[g], :, i, :] = np.cross(np.eye(3), centre[g])
+        return out.reshape(2 * nb * 3, n * 3)
+
+    def geometry_rows(self, objects) -> tuple[np.ndarray, ...]:
+        """(body - 1, centre, radius, second-order bound) of each geometry object (the
+        universe's: body -1): its points lie within ``radius`` of ``centre`` (in its joint's
+        frame), and along a motion ``d`` the speed of any of them changes at most at ``|d|^T C
+        |d|`` per unit of the motion (``C`` flattened): the axis ``z_k`` of a joint above it
+        turns at most as fast as the joints above that one, and the point's offset ``p - o_k``
+        from the joint's origin changes with those and with the joints from ``k`` on, so
+        ``|d^2 p / dt^2| <= sum_k |d_k| (2 R_k sum_{j<k} |d_j| + sum_{j>=k} |d_j| R_j)`` with
+        ``R_k`` a bound on ``|p - o_k|`` (:func:`origin_reach`)."""
+        model = self._model()
+        pm = model.pinocchio_model
+        n = len(objects)
+        body = np.full(n, -1, dtype=int)
+        centre, radius = np.zeros((n, 3)), np.zeros(n)
+        C = np.zeros((n, pm.nv, pm.nv))
+        for i, go in enumerate(objects):
+            m = int(go.parentJoint)
+            if m == 0:
+                continue
+            pts, extra = _hull_points(go.geometry)
+            P = go.placement
+            pts = pts @ np.asarray(P.rotation, dtype=float).T + np.asarray(P.translation, dtype=float)
+            c = 0.5 * (pts.min(axis=0) + pts.max(axis=0))
+            body[i], centre[i] = m - 1, c
+            radius[i] = float(np.linalg.norm(pts - c, axis=1).max()) + extra
+            own = float(np.linalg.norm(pts, axis=1).max()) + extra  # from its joint's origin
+            chain = [int(j) for j in pm.supports[m]][1:]
+            reach = {k: own + (origin_reach(model, k, m) if k != m else 0.0) for k in chain}
+            for k in chain:
+                for j in chain:
+                    C[i, pm.joints[k].idx_v, pm.joints[j].idx_v] += 2.0 * reach[k] if j < k else reach[j]
+        return body, centre, radius, C.reshape(n, pm.nv * pm.nv)
+
+
+_ROBOT_SPEED_MODELS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()
+
+
+def _robot_speed_model(model: RobotModel) -> _RobotSpeedModel | None:
+    """:class:`_RobotSpeedModel` of the robot (cached per model), None where it has joints other
+    than revolute or prismatic ones with one variable each."""
+    if model not in _ROBOT_SPEED_MODELS:
+        pm = model.pinocchio_model
+        usable = pm.nq == pm.nv and all(
+            pm.joints[j].shortname() in REVOLUTE_JOINTS + PRISMATIC_JOINTS and pm.joints[j].nv == 1
+            for j in range(1, pm.njoints))
+        _ROBOT_SPEED_MODELS[model] = _RobotSpeedModel(model) if usable else None
+    return _ROBOT_SPEED_MODELS[model]
+
+
+class _SpeedBound:
+    """Bounds on how fast the bodies move along one straight joint-space motion, from their
+    velocities at sampled states of it: much tighter than :meth:`_CollisionEnv.motion_model`'s
+    bounds over every configuration (on the Panda's distal links a point's speed is 0.2-0.5 of
+    them), so motion proofs cover longer stretches per clearance check.
+
+    Along ``q(t) = a + t d`` a point ``p`` of a body moves at ``|dp/dt| = |sum_k d_k z_k x (p -
+    o_k)|`` (the joints ``k`` above it, axes ``z_k`` through ``o_k``); at a state that is at most
+    ``|v_c| + |w| r`` for a geometry whose points lie within ``r`` of its centre ``c`` (``v_c``
+    the centre's velocity, ``w`` the body's angular velocity). How fast that can change along
+    the motion is bounded over every configuration (:meth:`_RobotSpeedModel.geometry_rows`), so
+    the speed at a sampled state bounds it on a stretch around it.
+
+    The velocities come from Pinocchio's joint Jacobians of the model's copy in
+    :class:`_RobotSpeedModel`: the world Jacobian columns ``(o x e, e)`` of the motionless joints
+    at a body's origin ``o`` give the body's axes ``e`` and, by dot products (``e . (w x o) =
+    w . (o x e)``), its velocity in its own frame: one C++ call and one array per state. Speeds
+    do not depend on the frame, so the model need not be the collision set-up's turned one.
+
+    For robots whose joints are all revolute or prismatic with one variable each, and motions
+    that move no prismatic joint (:meth:`speeds` returns None otherwise); elsewhere the bounds
+    over every configuration serve alone.
+    """
+
+    def __init__(self, robot: _RobotSpeedModel, env: _CollisionEnv):
+        self._robot = robot
+        gm = env.geom_model
+        n_robot = len(robot.robot[0])
+        body, centre, radius, C = robot.robot
+        centre_map = robot.robot_map
+        if any(kind == "attached" for kind in env.kinds):
+            rows = robot.geometry_rows(gm.geometryObjects[n_robot:])  # (the world's do not move)
+            body, centre, radius, C = (np.concatenate(parts) for parts in zip(robot.robot, rows))
+            centre_map = robot.centre_map(body, centre)
+        moving = np.nonzero(body >= 0)[0]
+        self._geoms, self._ngeoms = moving, gm.ngeoms
+        self._body, self._radius, self._accel = body[moving], radius[moving], C[moving]
+        self._centre_map = centre_map
+
+    #: (v, w) . (o x e, e) = v.e + w.(o x e)
+    _SWAP = np.array([3, 4, 5, 0, 1, 2])
+
+    def speeds(self, Q: np.ndarray, d: np.ndarray, half: float) -> np.ndarray | None:
+        """Per geometry, a bound on the speed of its points along the motion ``d`` (per unit of
+        the motion's parameter) at every state within ``half`` (in that parameter) of a row of
+        ``Q``; None where this bound does not apply."""
+        robot = self._robot
+        if len(robot.prismatic) and np.any(d[robot.prismatic] != 0.0):
+            return None
+        if not len(self._geoms):
+            return np.zeros(self._ngeoms)  # nothing moves
+        k, nq = len(Q), len(d)
+        data, qs, js = robot.buffers(k)
+        qs[:, :nq] = Q
+        aug, jacobians = robot.aug, pin.computeJointJacobians
+        for r in range(k):
+            jacobians(aug, data, qs[r])
+            js[r] = data.J
+        V = js[:, :, :nq] @ (robot.support * d[:, None])  # (k, 6, bodies): world (v at origin, w)
+        F = js[:, :, nq:].reshape(k, 6, -1, 3)  # each body's axes e (rows 3:) and o x e (rows :3)
+        # in the body's axes: w.e and the velocity of its origin (v + w x o).e = v.e + w.(o x e)
+        uw = np.empty((k, 2, F.shape[2], 3))
+        np.einsum("kib,kibe->kbe", V, F[:, self._SWAP], out=uw[:, 0])
+        np.einsum("kib,kibe->kbe", V[:, 3:], F[:, 3:], out=uw[:, 1])
+        # each geometry's centre: u + w x c (one product gathers and crosses)
+        v = (uw.reshape(k, -1) @ self._centre_map).reshape(k, -1, 3)
+        w = np.sqrt((uw[:, 1] * uw[:, 1]).sum(axis=2))[:, self._body]
+        s = np.sqrt((v * v).sum(axis=2)) + w * self._radius
+        ad = np.abs(d)
+        out = np.zeros(self._ngeoms)
+        out[self._geoms] = s.max(axis=0) + half * (self._accel @ np.outer(ad, ad).ravel())
+        return out
+
+
 class MotionChecker:
     """Collision checks of one group's states, and of states with a clearance: the basis of
     continuous (not only sampled) collision checking of straight joint-space motions.
@@ -694,6 +867,8 @@ class MotionChecker:
     :meth:`_CollisionEnv.motion_bounds`), a state ``q(t)`` on the motion ``q(s) = a + s d``
     that is clear with ``reach = r * rates(d)`` proves every state with ``|s - t| <= r``
     collision-free: no point moves farther than that, so no pair can close its gap.
+    :meth:`motion_free` takes the tighter bounds of :meth:`motion_margins` (from the bodies'
+    velocities along the motion at hand, :class:`_SpeedBound`).
 
     Bound to the scene's collision set-up as it is when made (as
     :meth:`PlanningScene.state_validity_checker`).
@@ -726,6 +901,7 @@ class MotionChecker:
             self._combined = np.ascontiguousarray(combined.reshape(ng * ng, self._bounds.shape[1]))
         self._mids: dict[int, np.ndarray] = {}
         self.certifiable = bool(np.all(np.isfinite(self._bounds)))
+        self._speed: _SpeedBound | bool | None = None  # made at the first motion proof (False: none)
         self._compute = pin.computeCollisions
 
     def free(self, q: np.ndarray) -> bool:
@@ -761,6 +937,22 @@ class MotionChecker:
         pair = self._pair_bounds if columns is None else self._pair_bounds[:, :, columns]
         out[self._block] = pair @ dq
         return out
+
+    def motion_margins(self, qa: np.ndarray, d: np.ndarray, mids: np.ndarray, half: float) -> np.ndarray:
+        """Per pair of geometries, a bound on how much closer the two can get per unit of the
+        motion ``qa + t d`` at every ``t`` within ``half`` of one of ``mids``: the smaller of
+        :meth:`margins` (over every configuration) and the sum of the two geometries' speeds
+        there (:class:`_SpeedBound`)."""
+        margins = self.margins(d)
+        if len(mids) and d.any():
+            speed = self._speed
+            if speed is None:
+                robot = _robot_speed_model(self._env.model)
+                speed = self._speed = False if robot is None else _SpeedBound(robot, self._env)
+            s = speed.speeds(qa + mids[:, None] * d, d, half) if speed else None
+            if s is not None:
+                np.minimum(margins, s[:, None] + s[None, :], out=margins)
+        return margins
 
     def clear_all(self, Q: np.ndarray, margins: np.ndarray) -> list[int]:
         """Indices of the rows of ``Q`` (full variable vectors) that are not clear by
@@ -807,7 +999,7 @@ class MotionChecker:
         return out, -1, checks
 
     def motion_free(self, qa: np.ndarray, qb: np.ndarray, n: int = 1, min_margin: float = 1e-6,
-                    free_check: float = 1e-2, intervals=None) -> tuple[bool, int]:
+                    free_check: float = 1e-2, intervals=None, margins: np.ndarray | None = None) -> tuple[bool, int]:
         """Whether every state of the straight motion from ``qa`` to ``qb`` (full variable
         vectors), its ends included, is collision-free. Continuous, not sampled: holds at any
         resolution.
@@ -825,6 +1017,8 @@ class MotionChecker:
         Args:
             intervals: indices of the ``n`` intervals to prove (default: all; the others are
                 taken as proven).
+            margins: :meth:`motion_margins` that hold on those intervals (default: worked out
+                here).
 
         Returns:
             ``(free, states checked)``.
@@ -836,11 +1030,6 @@ class MotionChecker:
             raise ValueError("motion_free needs revolute or prismatic joints (see MotionChecker.certifiable)")
         qa = np.asarray(qa, dtype=float)
         d = np.asarray(qb, dtype=float) - qa
-        margins = self.margins(d)  # how much closer each pair can get per unit of the motion
-        largest = float(margins.max()) if margins.size else 0.0
-        checks = 0
-        if largest <= 0.0:
-            return True, 0  # nothing that can collide moves
         mids = self._mids.get(n)
         if mids is None:
             mids = (np.arange(n) + 0.5) / n
@@ -849,6 +1038,13 @@ class MotionChecker:
         if intervals is not None:
             mids = mids[np.asarray(intervals, dtype=int)]
         half = 0.5 / n
+        # how much closer each pair can get per unit of the motion, on the intervals to prove
+        if margins is None:
+            margins = self.motion_margins(qa, d, mids, half)
+        largest = float(margins.max()) if margins.size else 0.0
+        checks = 0
+        if largest <= 0.0:
+            return True, 0  # nothing that can collide moves
         while len(mids):
             Q = qa + mids[:, None] * d
             blocked = self.clear_all(Q, margins * half)
