@@ -124,9 +124,9 @@ def _convertible(value, what: str) -> None:
 
 
 class BindingEnum(IntEnum):
-    """An IntEnum that prints as pybind11 prints MTC's enums: ``str()`` gives
+    """An IntEnum that prints as pybind11 prints MTC's enums: ``str()`` and ``format()`` give
     ``'MergeMode.WAYPOINTS'`` (Python 3.11's IntEnum gives ``'1'``); ``int()``, comparisons and
-    ``format()`` stay those of the number."""
+    arithmetic stay those of the number."""
 
     __str__ = Enum.__str__
 

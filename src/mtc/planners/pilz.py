@@ -27,9 +27,10 @@ in MoveIt's Pilz; 0 does too (MoveIt's time parameterization reads it as 1.0, Pi
 
 Every waypoint is checked for collisions (for the group) and against path constraints (PTP,
 LIN), and the motion from the waypoint before it is proven collision-free (MoveIt's Pilz checks
-the waypoints only); the first failing one ends planning with a message saying which waypoint and which
-bodies, after MoveIt's error-code name (``"INVALID_MOTION_PLAN: ..."``). The part of the path
-before it is returned, re-timed to end at rest, so stages can show it or measure its length.
+the waypoints only); the first failing one ends planning with a message saying which waypoint
+and which bodies, after MoveIt's error-code name (``"INVALID_MOTION_PLAN: ..."``). The part of
+the path before it is returned, re-timed to end at rest, so stages can show it or measure its
+length.
 """
 
 from __future__ import annotations
