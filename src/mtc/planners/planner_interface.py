@@ -192,7 +192,12 @@ class PathValidity:
         qa = np.asarray(qa, dtype=float)
         delta = shortest_delta(np.asarray(qb, dtype=float) - qa, model.continuous_mask)
         if self._motion.certifiable:
-            return self._motion.motion_free(qa, qa + delta, max(1, int(segments)))[0]
+            segments = max(1, int(segments))
+            # one short piece (the step between two waypoints): the bounds over every
+            # configuration, which need no Jacobians, are the cheaper proof there (15 cm
+            # Cartesian lines: 3.9 ms against 5.3 ms with MotionChecker.motion_margins)
+            margins = self._motion.margins(delta) if segments == 1 else None
+            return self._motion.motion_free(qa, qa + delta, segments, margins=margins)[0]
         n = max(1, math.ceil(float(np.abs(delta).max(initial=0.0)) / MOTION_FALLBACK_STEP))
         return all(self._motion.free(qa + (k / n) * delta) for k in range(n + 1))
 
