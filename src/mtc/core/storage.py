@@ -479,15 +479,12 @@ def state_of(direction: int, solution: "SolutionBase") -> InterfaceState:
 
 
 def _cost(value) -> float:
-    """A solution's cost as float; anything but a number is a TypeError (as MTC's binding)."""
-    if isinstance(value, float):
-        return value
-    if not isinstance(value, (str, bytes)):
-        try:
-            return float(value)
-        except (TypeError, ValueError):
-            pass
-    raise TypeError(f"a solution's cost must be a number, not {type(value).__name__} ({value!r})")
+    """A solution's cost as float; anything but a number is a TypeError (as MTC's binding, whose
+    double caster also reads a bool)."""
+    cost = msgs.real_value(value, bools=True)
+    if cost is None:
+        raise TypeError(f"a solution's cost must be a number, not {type(value).__name__} ({value!r})")
+    return cost
 
 
 def _comment(value) -> str:
