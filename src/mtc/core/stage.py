@@ -1731,17 +1731,14 @@ class _PendingPairs:
             p.entry = p.rel = None  # (their chains of old values refer back to the pair)
             p.key = _pair_key(p)  # the exact mode's keys include the status
         self._pairs = pairs
-        keys = [p.key for p in pairs]
+        self._keys = keys = [p.key for p in pairs]
+        self._sorted = True
         # The fast order is MTC's list before the change that ends the fast mode (a status
         # change, called after the state changed). Keys of the new priorities out of order
         # mean MTC's next re-sort moves pairs; a re-sort compares the new keys with the stored
         # ones, which are the new ones already, so it must sort the whole list instead.
-        if all(a <= b for a, b in zip(keys, keys[1:])):
-            self._keys = keys
-            self._sorted = True
-        else:
-            self._keys = []
-            self._sorted = False
+        if not all(a <= b for a, b in zip(keys, keys[1:])):
+            self.markUnsorted()
 
     # --- MTC operations -------------------------------------------------------------------
     def noteState(self, state: InterfaceState) -> None:
