@@ -79,24 +79,3 @@ def rod_past_a_pin(panda):
         return scene, goal
 
     return make
-
-
-@pytest.fixture
-def first_collision_between_waypoints():
-    """``first_collision_between_waypoints(scene, traj, resolution=1e-3)``, see
-    :func:`_first_collision_between_waypoints`."""
-    return _first_collision_between_waypoints
-
-
-def _first_collision_between_waypoints(scene: PlanningScene, traj, resolution: float = 1e-3):
-    """The first state, on the straight lines between ``traj``'s waypoints stepped at most
-    ``resolution`` [rad] per joint, that collides in ``scene`` (None: all free)."""
-    state = scene.current_state.copy()
-    for i in range(len(traj) - 1):
-        a, b = traj[i].positions, traj[i + 1].positions
-        n = max(1, int(np.ceil(np.abs(b - a).max() / resolution)))
-        for k in range(n + 1):
-            state.positions = a + (b - a) * (k / n)
-            if scene.is_state_colliding(state):
-                return state
-    return None

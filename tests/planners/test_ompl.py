@@ -12,6 +12,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from path_checks import dense as _dense
 
 from mtc import msgs
 from mtc.planners import ompl_pipeline as op
@@ -43,15 +44,6 @@ def blocked(ready_scene, add_box):
     goal = _state(ready_scene, panda_joint1=1.0)
     assert not ready_scene.is_state_colliding(start) and not ready_scene.is_state_colliding(goal)
     return ready_scene, start, goal
-
-
-def _dense(positions: np.ndarray, step: float) -> np.ndarray:
-    """The polyline through ``positions`` sampled at most ``step`` apart in every joint."""
-    out = [positions[0]]
-    for a, b in zip(positions[:-1], positions[1:]):
-        n = max(1, math.ceil(np.max(np.abs(b - a)) / step))
-        out.extend(a + (b - a) * (k / n) for k in range(1, n + 1))
-    return np.asarray(out)
 
 
 def _assert_collision_free_at(scene: PlanningScene, traj, step: float, group: str = ARM) -> None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from path_checks import free_along
 
 from mtc import msgs
 from mtc.planners import PipelinePlanner
@@ -588,16 +589,16 @@ def test_reproducible(ready_scene):
 
 
 @pytest.mark.parametrize("planner_id", ["PTP", "LIN"])
-def test_a_thin_obstacle_between_waypoints_fails_the_motion(rod_past_a_pin, first_collision_between_waypoints, planner_id):
+def test_a_thin_obstacle_between_waypoints_fails_the_motion(rod_past_a_pin, planner_id):
     """Pilz samples its motion every sampling_time; the motion between the samples is checked
     too (MoveIt's Pilz checks the samples only): a held rod swept through a thin pin fails."""
     free_scene, free_goal = rod_past_a_pin(pin=False)
     result, traj = _pilz(planner_id).plan(free_scene, free_goal, ARM, 5.0)
     assert result  # (without the pin the same turn succeeds)
     scene, goal = rod_past_a_pin()
-    assert first_collision_between_waypoints(scene, traj) is not None
+    assert not free_along(scene, traj).all()
     result, part = _pilz(planner_id).plan(scene, goal, ARM, 5.0)
     assert not result
     assert result.message.startswith("INVALID_MOTION_PLAN: the motion from waypoint ")
     assert result.message.endswith(f" of {len(traj)} is in collision")
-    assert part is None or first_collision_between_waypoints(scene, part) is None
+    assert part is None or free_along(scene, part).all()
