@@ -21,9 +21,10 @@ line says what failed. Each line is written as soon as its sample and all before
 planned, so a run that is stopped keeps the index of what it finished.
 
 Run: ``python examples/dataset.py --samples 100 --workers 2 --out pick_place_dataset`` (a
-folder that holds no dataset yet: no index and no sample files, not even a stopped run's). ``--view N`` plans sample ``N`` again and shows it in the
-browser, writing nothing; given the dataset's ``--seed`` and ``--solutions`` it is the same plan
-(the sample is drawn from its own stream; more solutions can find a cheaper best one).
+folder that holds no dataset yet: no index and no sample files, not even a stopped run's).
+``--view N`` plans sample ``N`` again and shows it in the browser, writing nothing; given the
+dataset's ``--seed`` and ``--solutions`` it is the same plan (the sample is drawn from its own
+stream; more solutions can find a cheaper best one).
 """
 
 from __future__ import annotations
