@@ -230,10 +230,12 @@ def test_ptp_start_and_goal_checks(ready_scene, add_box):
     blocked = ready_scene.diff()
     add_box(blocked, "at_goal", goal.current_state.get_global_link_transform("panda_hand")[:3, 3])
     result, traj = _pilz("PTP").plan(blocked, goal, ARM, 1.0)
-    assert result.message.startswith("GOAL_IN_COLLISION: ") and "at_goal" in result.message and traj is None
+    assert result.message.startswith("GOAL_IN_COLLISION: goal state is in collision: ") and "at_goal" in result.message
+    assert traj is None
     add_box(blocked, "at_start", ready_scene.current_state.get_global_link_transform("panda_hand")[:3, 3])
     result, _ = _pilz("PTP").plan(blocked, goal, ARM, 1.0)
-    assert result.message.startswith("START_STATE_IN_COLLISION: ") and "at_start" in result.message
+    assert result.message.startswith("START_STATE_IN_COLLISION: start state is in collision: ")
+    assert "at_start" in result.message
     far = _goal(ready_scene, panda_joint1=3.5)
     # as Pilz, for every planner (LIN would otherwise go to the tip's pose of that joint goal)
     for planner in ("PTP", "LIN"):
@@ -252,7 +254,13 @@ def test_ptp_path_constraints(ready_scene):
     assert _pilz("PTP").plan(ready_scene, goal, ARM, 1.0, constraints)[0]
     constraints.joint_constraints[0].tolerance_above = 0.5
     result, _ = _pilz("PTP").plan(ready_scene, goal, ARM, 1.0, constraints)
-    assert result.message == "GOAL_VIOLATES_PATH_CONSTRAINTS"
+    # worded as the OMPL pipeline words it: which constraint, by how much
+    assert result.message == ("GOAL_VIOLATES_PATH_CONSTRAINTS: goal state violates the path constraints: "
+                              "joint constraint on 'panda_joint1' violated by 0.5")
+    constraints.joint_constraints[0].position = 0.5  # ready's joint 1 (0) lies below 0.5 - 0.1
+    result, _ = _pilz("PTP").plan(ready_scene, goal, ARM, 1.0, constraints)
+    assert result.message.startswith("START_STATE_VIOLATES_PATH_CONSTRAINTS: start state violates the path "
+                                     "constraints: joint constraint on 'panda_joint1' violated by 0.4")
 
 
 # ----------------------------------------------------------------------------------------- LIN
@@ -391,6 +399,28 @@ def test_lin_collision(ready_scene, add_box):
     result, traj = _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0)
     assert result.message.startswith("INVALID_MOTION_PLAN: waypoint ") and "table" in result.message
     assert not any(ready_scene.is_state_colliding(w, ARM) for w in traj)
+
+
+def test_lin_leaving_the_path_constraints_names_the_waypoint_and_the_constraint(ready_scene):
+    """A line whose ends lie inside the path constraints (two small balls) but whose middle
+    does not fails at the first waypoint outside, saying which constraint and by how much."""
+    T0 = ready_scene.current_state.get_global_link_transform("panda_link8")
+    T1 = T0.copy()
+    T1[:3, 3] += [0.0, 0.0, -0.3]
+    balls = msgs.BoundingVolume(
+        primitives=[msgs.SolidPrimitive(type=msgs.SolidPrimitive.SPHERE, dimensions=[0.02])] * 2,
+        primitive_poses=[msgs.Pose(position=msgs.Point(*T[:3, 3]), orientation=msgs.Quaternion(w=1.0))
+                         for T in (T0, T1)],
+    )
+    constraints = msgs.Constraints(position_constraints=[msgs.PositionConstraint(
+        header=msgs.Header(frame_id="world"), link_name="panda_link8", constraint_region=balls, weight=1.0)])
+    result, traj = _pilz("LIN").plan_to_pose(ready_scene, "panda_link8", np.eye(4), T1, ARM, 1.0, constraints)
+    assert result.message.startswith("INVALID_MOTION_PLAN: waypoint ")
+    assert " violates the path constraints: position constraint on 'panda_link8'" in result.message
+    k = int(result.message.split()[2])
+    assert 0 < k and len(traj) == k  # the waypoints before it, inside the balls
+    assert all(np.linalg.norm(T[:3, 3] - T0[:3, 3]) <= 0.02 + 1e-9 for T in
+               (w.get_global_link_transform("panda_link8") for w in traj))
 
 
 def test_lin_beyond_reach_through_an_obstacle_hands_back_only_the_valid_part(ready_scene, add_box):

@@ -299,7 +299,7 @@ class PilzPipeline:
         q = start.positions
         validity = self._validity(scene, jmg.name, None)
         if not validity.collision_free(q):
-            refused = error_message("START_STATE_IN_COLLISION", validity.collision_detail(q))
+            refused = error_message("START_STATE_IN_COLLISION", f"start state is in collision: {validity.collision_detail(q)}")
         else:
             refused = _scaling_failure(vs, acs)
             outside = None if refused else _outside_bounds(self.robot_model, jmg, q)
@@ -347,13 +347,16 @@ class PilzPipeline:
     def _check_endpoints(self, validity: PathValidity, start_q, goal_q, jmg, check_goal=True):
         # (the start's bounds and collisions are checked first, by _request)
         if not validity.constraints_satisfied(start_q):
-            raise _Failure(error_message("START_STATE_VIOLATES_PATH_CONSTRAINTS"))
+            raise _Failure(error_message("START_STATE_VIOLATES_PATH_CONSTRAINTS", "start state violates the path "
+                                         f"constraints: {validity.constraint_detail(start_q)}"))
         if not check_goal:
             return
         if not validity.collision_free(goal_q):
-            raise _Failure(error_message("GOAL_IN_COLLISION", validity.collision_detail(goal_q)))
+            raise _Failure(error_message("GOAL_IN_COLLISION", f"goal state is in collision: "
+                                         f"{validity.collision_detail(goal_q)}"))
         if not validity.constraints_satisfied(goal_q):
-            raise _Failure(error_message("GOAL_VIOLATES_PATH_CONSTRAINTS"))
+            raise _Failure(error_message("GOAL_VIOLATES_PATH_CONSTRAINTS", "goal state violates the path "
+                                         f"constraints: {validity.constraint_detail(goal_q)}"))
 
     def _check_path(self, validity: PathValidity, Q: list[np.ndarray], skip_constraints=False) -> None:
         """Each waypoint, and the motion from the one before (MoveIt's Pilz checks the
@@ -367,7 +370,8 @@ class PilzPipeline:
                 )
             if not skip_constraints and not validity.constraints_satisfied(q):
                 raise _Failure(
-                    error_message("INVALID_MOTION_PLAN", f"waypoint {k} of {n} violates the path constraints"), Q[:k]
+                    error_message("INVALID_MOTION_PLAN", f"waypoint {k} of {n} violates the path constraints: "
+                                                         f"{validity.constraint_detail(q)}"), Q[:k]
                 )
             if k and not validity.motion_free(Q[k - 1], q):
                 raise _Failure(

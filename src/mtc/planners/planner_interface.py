@@ -201,12 +201,15 @@ class PathValidity:
         n = max(1, math.ceil(float(np.abs(delta).max(initial=0.0)) / MOTION_FALLBACK_STEP))
         return all(self._motion.free(qa + (k / n) * delta) for k in range(n + 1))
 
+    def _state(self, q: np.ndarray) -> RobotState:
+        state = self.scene.current_state.copy()  # keeps the frames of attached objects
+        state.positions = q
+        return state
+
     def constraints_satisfied(self, q: np.ndarray) -> bool:
         if self._constraints is None:
             return True
-        state = self.scene.current_state.copy()  # keeps the frames of attached objects
-        state.positions = q
-        return bool(self._constraints.satisfied(state, self.scene))
+        return bool(self._constraints.satisfied(self._state(q), self.scene))
 
     def __call__(self, q: np.ndarray) -> bool:
         return self.collision_free(q) and self.constraints_satisfied(q)
@@ -216,6 +219,13 @@ class PathValidity:
         state = RobotState(self.scene.robot_model, q)
         pairs = self.scene.get_collisions(state, self.group)
         return ", ".join(f"{a} - {b}" for a, b in pairs)
+
+    def constraint_detail(self, q: np.ndarray) -> str:
+        """``"what; what"``: the path constraints ``q`` violates, one clause each (for failure
+        messages, as the OMPL pipeline words them)."""
+        if self._constraints is None:
+            return ""
+        return "; ".join(self._constraints.violations(self._state(q), self.scene))
 
 
 class PlannerInterface(TypedPropertyAccess, ABC):
