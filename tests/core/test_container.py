@@ -449,6 +449,22 @@ def test_init_error_says_how_to_fix_two_neighbours_waiting_for_each_other(t):
     with pytest.raises(core.InitStageError) as info:
         t.plan()
     assert "To fix: both wait for a state from the other; put a generator between 'CON1' and 'CON2'" in str(info.value)
+    assert "restrictDirection" not in str(info.value)  # (a connector reads both sides whatever it is told)
+
+
+def test_init_error_between_a_propagator_and_a_connector_suggests_a_generator_only(t):
+    """Connect, propagator, Connect: the propagator gets no state from either side, and
+    turning it round would not give it one, so the hint names the generator only."""
+    t.add(GeneratorMockup())
+    t.add(ConnectMockup())
+    t.add(PropagatorMockup())
+    t.add(ConnectMockup())
+    t.add(GeneratorMockup())
+    with pytest.raises(core.InitStageError) as info:
+        t.plan()
+    text = str(info.value)
+    assert "To fix: both wait for a state from the other; put a generator between 'PRO1' and 'CON2'" in text
+    assert "restrictDirection" not in text
 
 
 def test_init_error_collects_all(t):

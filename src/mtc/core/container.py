@@ -1075,9 +1075,11 @@ def _neighbour_hint(first: str, second: str, flags1: int, flags2: int) -> str:
             f"the motion between them"
         )
     if (flags1 & READS_END) and (flags2 & READS_START):
+        # (one of the two is a connector: two propagators facing each other fail earlier, on
+        # the direction their neighbours expect; turning a propagator round gives it no state)
         return (
             f". To fix: both wait for a state from the other; put a generator between '{first}' and "
-            f"'{second}', or let one of them propagate (restrictDirection)"
+            f"'{second}'"
         )
     return ""
 
