@@ -18,7 +18,9 @@ and ``index.jsonl``: one line per sample, in sample order, with the box's pose, 
 position, the seed, whether it was solved, the cost, the planning time, and for a failed
 sample why (``task.explainFailure()``). A failed sample is data too: it has no files but its
 line says what failed. Each line is written as soon as its sample and all before it are
-planned, so a run that is stopped keeps the index of what it finished.
+planned, right after the sample's files (by the main process, each under a temporary name
+first), so a run that is stopped keeps the index of what it finished, with whole files. A stop
+(Ctrl-C or SIGTERM) lets the samples begun end; workers whose main process is killed end too.
 
 Run: ``python examples/dataset.py --samples 100 --workers 2 --out pick_place_dataset`` (a
 folder that holds no dataset yet: no index and no sample files, not even a stopped run's).
@@ -35,7 +37,9 @@ import io
 import json
 import math
 import os
+import signal
 import sys
+import threading
 import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
@@ -75,27 +79,53 @@ def sample_task(sample: dict, timeout: float = 60.0):
     return task
 
 
-def plan_sample(job: tuple[dict, str, int, float]) -> dict:
-    """Plan one sample and write its files; returns its ``index.jsonl`` record."""
-    sample, out, max_solutions, timeout = job
+def plan_sample(job: tuple[dict, str, int, float]) -> tuple[dict, tuple | None]:
+    """Plan one sample: its ``index.jsonl`` record, and the contents of its files (the best
+    solution's JSON text and arrays; None if not solved), which the main process writes."""
+    sample, _out, max_solutions, timeout = job
     task = sample_task(sample, timeout)
     start = time.perf_counter()
     with contextlib.redirect_stdout(io.StringIO()):  # (a failed plan prints its tree, as MTC's)
         result = task.plan(max_solutions)
     record = dict(sample, solved=bool(result), plan_s=round(time.perf_counter() - start, 4))
-    if result:
-        best = task.solutions[0]
-        stem = Path(out) / f"sample_{sample['index']:05d}"
-        best.toJSON(f"{stem}.json")
-        arrays = best.toArrays()
-        np.savez_compressed(f"{stem}.npz", times=arrays.times, positions=arrays.positions,
-                            velocities=arrays.velocities, joint_names=np.array(arrays.joint_names))
-        record.update(cost=best.cost, solutions=len(task.solutions))
-    else:
+    if not result:
         why = io.StringIO()
         task.explainFailure(why)
         record.update(cost=None, solutions=0, failure=why.getvalue().strip() or str(result))
-    return record
+        return record, None
+    best = task.solutions[0]
+    arrays = best.toArrays()
+    record.update(cost=best.cost, solutions=len(task.solutions))
+    return record, (best.toJSON(), {"times": arrays.times, "positions": arrays.positions,
+                                    "velocities": arrays.velocities, "joint_names": np.array(arrays.joint_names)})
+
+
+def write_sample(folder: Path, index: int, files: tuple) -> None:
+    """Write a sample's files, each under a temporary name first: a stopped run leaves no
+    half-written file under a sample's name."""
+    text, arrays = files
+    stem = folder / f"sample_{index:05d}"
+    part = folder / f".sample_{index:05d}.part"
+    part.write_text(text)
+    os.replace(part, f"{stem}.json")
+    with open(part, "wb") as f:
+        np.savez_compressed(f, **arrays)
+    os.replace(part, f"{stem}.npz")
+
+
+def _worker_init(parent: int) -> None:
+    """A pool worker: Ctrl-C stops the main process only (which then ends the samples begun),
+    no second search of its own (the pool keeps every core busy, see mtc.planners._race), and
+    it ends when the process that started it is gone (killed: nothing would read its work)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    os.environ["MTC_PARALLEL_SEARCH"] = "0"
+
+    def watch():
+        while os.getppid() == parent:
+            time.sleep(0.5)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
 
 
 def bad_arguments(samples: int, workers: int, seed: int, max_solutions: int, timeout: float) -> str | None:
@@ -115,20 +145,27 @@ def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: i
     if error:
         raise ValueError(error)
     folder = Path(out)
-    if folder.is_dir() and any(p.name == "index.jsonl" or p.name.startswith("sample_") for p in folder.iterdir()):
+    if folder.is_dir() and any(p.name == "index.jsonl" or p.name.lstrip(".").startswith("sample_")
+                               for p in folder.iterdir()):
         raise FileExistsError(f"{out} holds a dataset already (index.jsonl or sample files, maybe of a stopped run): "
                               "choose another folder or remove it")
     folder.mkdir(parents=True, exist_ok=True)
     jobs = [(draw_sample(seed, i), str(out), max_solutions, timeout) for i in range(samples)]
     records = []
+    workers = min(workers, max(1, samples))
     with open(folder / "index.jsonl", "w") as index, contextlib.ExitStack() as stack:
         if workers == 1:
             planned = map(plan_sample, jobs)
         else:
-            pool = stack.enter_context(ProcessPoolExecutor(max_workers=workers))
+            pool = stack.enter_context(ProcessPoolExecutor(max_workers=workers, initializer=_worker_init,
+                                                           initargs=(os.getpid(),)))
             # (map yields in the sample order; closed first on a stop, it cancels the samples not begun)
             planned = stack.enter_context(contextlib.closing(pool.map(plan_sample, jobs)))
-        for record in planned:
+        # a sample's files, then its index line: the files of every listed sample are whole,
+        # and a stopped run leaves at most the last sample's files unlisted
+        for record, files in planned:
+            if files is not None:
+                write_sample(folder, record["index"], files)
             index.write(json.dumps(record) + "\n")
             index.flush()
             records.append(record)
@@ -156,14 +193,28 @@ def main(argv: list[str] | None = None):
     if error:
         parser.error(error)
     start = time.perf_counter()
+    # a stop (Ctrl-C, or `kill`'s SIGTERM) ends the samples begun and keeps the index of those
+    # listed, without a traceback
+    signal.signal(signal.SIGTERM, _stop)
     try:
         records = make_dataset(args.out, args.samples, args.workers, args.seed, args.solutions, args.timeout)
     except FileExistsError as e:
         parser.error(str(e))
+    except KeyboardInterrupt:
+        print(f"stopped: {Path(args.out) / 'index.jsonl'} lists the samples planned so far", file=sys.stderr)
+        raise SystemExit(130) from None
+    except OSError as e:  # (--out under a file, or where there is no write access)
+        parser.error(f"cannot write the dataset in {args.out}: {e.strerror or e}")
+    finally:
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
     solved = sum(r["solved"] for r in records)
     print(f"{solved} of {len(records)} samples solved in {time.perf_counter() - start:.1f} s "
           f"with {args.workers} worker(s); files and index.jsonl in {args.out}")
     return records
+
+
+def _stop(_signum, _frame):
+    raise KeyboardInterrupt
 
 
 if __name__ == "__main__":

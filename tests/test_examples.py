@@ -357,7 +357,8 @@ def test_dataset_records_a_failed_sample_with_its_reason(tmp_path):
     which stage failed."""
     namespace = runpy.run_path(str(EXAMPLES / "dataset.py"), run_name="example_dataset")
     sample = dict(namespace["draw_sample"](0, 0), object_position=[1.5, 0.0, 0.285])
-    record = namespace["plan_sample"]((sample, str(tmp_path), 1, 60.0))
+    record, files = namespace["plan_sample"]((sample, str(tmp_path), 1, 60.0))
+    assert files is None
     assert not record["solved"] and record["cost"] is None and record["solutions"] == 0
     assert record["failure"].startswith("Failing stage(s):\ncompute ik (0/4): "), record["failure"]
     assert not list(tmp_path.iterdir())
@@ -394,7 +395,7 @@ def test_dataset_index_grows_in_sample_order_as_samples_finish(tmp_path):
             lines = (tmp_path / "run" / "index.jsonl").read_text().splitlines()
             seen.append([json.loads(line)["index"] for line in lines])
             raise KeyboardInterrupt  # stopped while planning sample 2
-        return dict(sample, solved=False, plan_s=0.0, cost=None, solutions=0, failure="x")
+        return dict(sample, solved=False, plan_s=0.0, cost=None, solutions=0, failure="x"), None
 
     make_dataset.__globals__["plan_sample"] = fake_plan
     with pytest.raises(KeyboardInterrupt):
@@ -402,6 +403,88 @@ def test_dataset_index_grows_in_sample_order_as_samples_finish(tmp_path):
     assert seen == [[0, 1]]
     lines = (tmp_path / "run" / "index.jsonl").read_text().splitlines()
     assert [json.loads(line)["index"] for line in lines] == [0, 1]
+
+
+def _processes_running(marker: str) -> list[int]:
+    """Process ids whose command line holds ``marker`` (Linux's /proc)."""
+    pids = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                if marker in (entry / "cmdline").read_bytes().decode(errors="replace"):
+                    pids.append(int(entry.name))
+            except OSError:
+                pass
+    return pids
+
+
+def _start_dataset(out: Path, workers: int):
+    """dataset.py in its own process, running until its index has a line: the process."""
+    import os
+    import subprocess
+    import time
+
+    # (its output goes to a file: a pipe would stay open as long as any worker lives)
+    with open(out.parent / f"{out.name}.err", "wb") as err:
+        proc = subprocess.Popen([sys.executable, str(EXAMPLES / "dataset.py"), "--samples", "200", "--workers",
+                                 str(workers), "--out", str(out)], stdout=subprocess.DEVNULL, stderr=err,
+                                env=dict(os.environ, PYTHONWARNINGS="ignore"))
+    deadline = time.monotonic() + 60
+    while not ((out / "index.jsonl").exists() and (out / "index.jsonl").read_text().strip()):
+        assert proc.poll() is None and time.monotonic() < deadline, (out.parent / f"{out.name}.err").read_text()
+        time.sleep(0.05)
+    return proc
+
+
+def _assert_whole(out: Path) -> None:
+    """Every sample the index lists has whole files; nothing half-written is left."""
+    records = [json.loads(line) for line in (out / "index.jsonl").read_text().splitlines()]
+    assert [r["index"] for r in records] == list(range(len(records)))
+    for r in records:
+        if r["solved"]:
+            stem = out / f"sample_{r['index']:05d}"
+            assert len(np.load(f"{stem}.npz")["times"]) > 1 and json.loads(Path(f"{stem}.json").read_text())
+    assert not list(out.glob(".sample_*.part"))
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads the processes from Linux's /proc")
+def test_a_stopped_dataset_run_ends_its_workers_and_keeps_a_whole_index(tmp_path):
+    """`kill` (SIGTERM) stops dataset.py with a one-line message and exit code 130, its workers
+    end with it, and the index lists samples whose files are whole; a killed main process
+    (SIGKILL, no chance to clean up) leaves no worker running either."""
+    import signal
+    import time
+
+    out = tmp_path / "term"
+    proc = _start_dataset(out, workers=2)
+    proc.send_signal(signal.SIGTERM)
+    assert proc.wait(timeout=60) == 130
+    err = (tmp_path / "term.err").read_text()
+    assert err.strip().splitlines()[-1].startswith("stopped: ") and "Traceback" not in err
+    _assert_whole(out)
+    time.sleep(1.5)
+    assert not _processes_running(str(out))
+
+    out = tmp_path / "kill"
+    proc = _start_dataset(out, workers=2)
+    assert len(_processes_running(str(out))) == 3  # the main process and its two workers
+    proc.kill()
+    proc.wait(timeout=10)
+    deadline = time.monotonic() + 10
+    while _processes_running(str(out)) and time.monotonic() < deadline:
+        time.sleep(0.1)
+    assert not _processes_running(str(out))  # the workers noticed within a second or so
+    _assert_whole(out)
+
+
+def test_dataset_command_line_refuses_an_unwritable_folder(tmp_path, capsys):
+    """An --out under a file is a usage error that names the folder, not a traceback."""
+    import dataset
+
+    (tmp_path / "afile").write_text("")
+    with pytest.raises(SystemExit):
+        dataset.main(["--samples", "1", "--workers", "1", "--out", str(tmp_path / "afile" / "ds")])
+    assert f"cannot write the dataset in {tmp_path / 'afile' / 'ds'}" in capsys.readouterr().err
 
 
 # ---------------------------------------------------------------------------------------------
