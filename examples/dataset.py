@@ -12,7 +12,8 @@ In ``--out`` it writes, per sample ``NNNNN``:
 * ``sample_NNNNN.json``: the best solution's message (``solution.toJSON``; read it back with
   ``mtc.core.export.solution_from_json``);
 * ``sample_NNNNN.npz``: that solution as arrays (``solution.toArrays()``: ``times``,
-  ``positions``, ``velocities``, ``joint_names``);
+  ``positions``, ``velocities``, and ``joint_names`` naming their columns: the arm's seven
+  joints and the gripper's ``panda_finger_joint1``);
 
 and ``index.jsonl``: one line per sample, in sample order, with the box's pose, the place
 position, the seed, whether it was solved, the cost, the planning time, and for a failed
