@@ -440,30 +440,25 @@ def test_init_error_says_how_to_fix_a_task_starting_with_a_connector(t):
     assert "start with a generator (CurrentState, FixedState)" in text
 
 
-def test_init_error_says_how_to_fix_two_neighbours_waiting_for_each_other(t):
-    """Connect, Connect between generators: both wait for a state from the other."""
+@pytest.mark.parametrize(
+    "middle, pair",
+    [((ConnectMockup, ConnectMockup), ("CON1", "CON2")),
+     ((ConnectMockup, PropagatorMockup, ConnectMockup), ("PRO1", "CON2"))],
+    ids=["connect-connect", "connect-propagator-connect"],
+)
+def test_init_error_says_how_to_fix_two_neighbours_waiting_for_each_other(t, middle, pair):
+    """Two neighbours that both wait for a state from the other (Connect, Connect; or Connect,
+    propagator, Connect, where the propagator gets no state from either side): the hint names
+    the generator to put between them, and not restrictDirection (turning a propagator round
+    gives it no state; a connector reads both sides whatever it is told)."""
     t.add(GeneratorMockup())
-    t.add(ConnectMockup())
-    t.add(ConnectMockup())
-    t.add(GeneratorMockup())
-    with pytest.raises(core.InitStageError) as info:
-        t.plan()
-    assert "To fix: both wait for a state from the other; put a generator between 'CON1' and 'CON2'" in str(info.value)
-    assert "restrictDirection" not in str(info.value)  # (a connector reads both sides whatever it is told)
-
-
-def test_init_error_between_a_propagator_and_a_connector_suggests_a_generator_only(t):
-    """Connect, propagator, Connect: the propagator gets no state from either side, and
-    turning it round would not give it one, so the hint names the generator only."""
-    t.add(GeneratorMockup())
-    t.add(ConnectMockup())
-    t.add(PropagatorMockup())
-    t.add(ConnectMockup())
+    for stage in middle:
+        t.add(stage())
     t.add(GeneratorMockup())
     with pytest.raises(core.InitStageError) as info:
         t.plan()
     text = str(info.value)
-    assert "To fix: both wait for a state from the other; put a generator between 'PRO1' and 'CON2'" in text
+    assert f"To fix: both wait for a state from the other; put a generator between '{pair[0]}' and '{pair[1]}'" in text
     assert "restrictDirection" not in text
 
 
