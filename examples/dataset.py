@@ -165,10 +165,11 @@ def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: i
         # a sample's files, then its index line: the files of every listed sample are whole,
         # and a stopped run leaves at most the last sample's files unlisted
         for record, files in planned:
-            if files is not None:
-                write_sample(folder, record["index"], files)
-            index.write(json.dumps(record) + "\n")
-            index.flush()
+            with _STOP.held():
+                if files is not None:
+                    write_sample(folder, record["index"], files)
+                index.write(json.dumps(record) + "\n")
+                index.flush()
             records.append(record)
     return records
 
@@ -196,7 +197,7 @@ def main(argv: list[str] | None = None):
     start = time.perf_counter()
     # a stop (Ctrl-C, or `kill`'s SIGTERM) ends the samples begun and keeps the index of those
     # listed, without a traceback
-    signal.signal(signal.SIGTERM, _stop)
+    handlers = {sig: signal.signal(sig, _STOP.handle) for sig in (signal.SIGINT, signal.SIGTERM)}
     try:
         records = make_dataset(args.out, args.samples, args.workers, args.seed, args.solutions, args.timeout)
     except FileExistsError as e:
@@ -207,15 +208,39 @@ def main(argv: list[str] | None = None):
     except OSError as e:  # (--out under a file, or where there is no write access)
         parser.error(f"cannot write the dataset in {args.out}: {e.strerror or e}")
     finally:
-        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        for sig, handler in handlers.items():
+            signal.signal(sig, handler)
     solved = sum(r["solved"] for r in records)
     print(f"{solved} of {len(records)} samples solved in {time.perf_counter() - start:.1f} s "
           f"with {args.workers} worker(s); files and index.jsonl in {args.out}")
     return records
 
 
-def _stop(_signum, _frame):
-    raise KeyboardInterrupt
+class _Stop:
+    """main()'s handler of Ctrl-C and SIGTERM: a KeyboardInterrupt, but not while a sample's
+    files and index line are being written (:meth:`held`): then right after."""
+
+    def __init__(self):
+        self.holding = self.pending = False
+
+    def handle(self, _signum, _frame):
+        if not self.holding:
+            raise KeyboardInterrupt
+        self.pending = True
+
+    @contextlib.contextmanager
+    def held(self):
+        self.holding = True
+        try:
+            yield
+        finally:
+            self.holding = False
+        if self.pending:
+            self.pending = False
+            raise KeyboardInterrupt
+
+
+_STOP = _Stop()
 
 
 if __name__ == "__main__":

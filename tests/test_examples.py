@@ -477,6 +477,21 @@ def test_a_stopped_dataset_run_ends_its_workers_and_keeps_a_whole_index(tmp_path
     _assert_whole(out)
 
 
+def test_a_dataset_stop_waits_for_the_sample_being_written():
+    """Ctrl-C or SIGTERM while a sample's files and index line are written stops right after
+    them (so the index never lists a sample without whole files); elsewhere at once."""
+    import dataset
+
+    stop, done = dataset._Stop(), []
+    with pytest.raises(KeyboardInterrupt):
+        with stop.held():
+            stop.handle(None, None)
+            done.append("written")
+    assert done == ["written"]
+    with pytest.raises(KeyboardInterrupt):
+        stop.handle(None, None)
+
+
 def test_dataset_command_line_refuses_an_unwritable_folder(tmp_path, capsys):
     """An --out under a file is a usage error that names the folder, not a traceback."""
     import dataset

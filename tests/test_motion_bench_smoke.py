@@ -138,7 +138,8 @@ def test_a_trapped_goal_is_reached_from_the_goal(narrow_passage):
     assert r["checks"] < 35_000
     scene = motion_bench.build_scene(model, problem.obstacles, problem.allowed_collisions)
     start, goal = motion_bench.problem_states(scene, problem)
-    paths = [pipeline.plan_joint(scene, start, goal, problem.group, timeout=10.0, seed=0)[1].positions for _ in range(2)]
+    paths = [pipeline.plan_joint(scene, start, goal, problem.group, timeout=10.0, seed=0)[1].positions
+             for _ in range(2)]
     np.testing.assert_array_equal(paths[0], paths[1])
 
 

@@ -299,7 +299,8 @@ class PilzPipeline:
         q = start.positions
         validity = self._validity(scene, jmg.name, None)
         if not validity.collision_free(q):
-            refused = error_message("START_STATE_IN_COLLISION", f"start state is in collision: {validity.collision_detail(q)}")
+            refused = error_message("START_STATE_IN_COLLISION",
+                                    f"start state is in collision: {validity.collision_detail(q)}")
         else:
             refused = _scaling_failure(vs, acs)
             outside = None if refused else _outside_bounds(self.robot_model, jmg, q)
