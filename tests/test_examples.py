@@ -405,17 +405,35 @@ def test_dataset_index_grows_in_sample_order_as_samples_finish(tmp_path):
     assert [json.loads(line)["index"] for line in lines] == [0, 1]
 
 
-def _processes_running(marker: str) -> list[int]:
-    """Process ids whose command line holds ``marker`` (Linux's /proc)."""
-    pids = []
+def _descendants(pid: int) -> set[int]:
+    """The processes below ``pid`` (Linux's /proc)."""
+    children: dict[int, list[int]] = {}
     for entry in Path("/proc").iterdir():
         if entry.name.isdigit():
             try:
-                if marker in (entry / "cmdline").read_bytes().decode(errors="replace"):
-                    pids.append(int(entry.name))
-            except OSError:
-                pass
-    return pids
+                ppid = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+            except (OSError, IndexError, ValueError):
+                continue
+            children.setdefault(ppid, []).append(int(entry.name))
+    out, todo = set(), [pid]
+    while todo:
+        for child in children.get(todo.pop(), []):
+            out.add(child)
+            todo.append(child)
+    return out
+
+
+def _alive(pids: set[int]) -> set[int]:
+    """Those of ``pids`` still running (not gone, not zombies)."""
+    alive = set()
+    for pid in pids:
+        try:
+            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except OSError:
+            continue
+        if state != "Z":
+            alive.add(pid)
+    return alive
 
 
 def _start_dataset(out: Path, workers: int):
@@ -457,23 +475,25 @@ def test_a_stopped_dataset_run_ends_its_workers_and_keeps_a_whole_index(tmp_path
 
     out = tmp_path / "term"
     proc = _start_dataset(out, workers=2)
+    workers = _descendants(proc.pid)
+    assert len(workers) >= 2
     proc.send_signal(signal.SIGTERM)
     assert proc.wait(timeout=60) == 130
     err = (tmp_path / "term.err").read_text()
     assert err.strip().splitlines()[-1].startswith("stopped: ") and "Traceback" not in err
     _assert_whole(out)
-    time.sleep(1.5)
-    assert not _processes_running(str(out))
+    assert not _alive(workers)
 
     out = tmp_path / "kill"
     proc = _start_dataset(out, workers=2)
-    assert len(_processes_running(str(out))) == 3  # the main process and its two workers
+    workers = _descendants(proc.pid)
+    assert len(workers) >= 2
     proc.kill()
     proc.wait(timeout=10)
     deadline = time.monotonic() + 10
-    while _processes_running(str(out)) and time.monotonic() < deadline:
+    while _alive(workers) and time.monotonic() < deadline:
         time.sleep(0.1)
-    assert not _processes_running(str(out))  # the workers noticed within a second or so
+    assert not _alive(workers)  # the workers noticed within a second or so
     _assert_whole(out)
 
 
