@@ -37,6 +37,7 @@ import contextlib
 import io
 import json
 import math
+import multiprocessing
 import os
 import signal
 import sys
@@ -114,12 +115,13 @@ def write_sample(folder: Path, index: int, files: tuple) -> None:
     os.replace(part, f"{stem}.npz")
 
 
-def _worker_init(parent: int) -> None:
+def _worker_init() -> None:
     """A pool worker: Ctrl-C stops the main process only (which then ends the samples begun),
     no second search of its own (the pool keeps every core busy, see mtc.planners._race), and
     it ends when the process that started it is gone (killed: nothing would read its work)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     os.environ["MTC_PARALLEL_SEARCH"] = "0"
+    parent = os.getppid()
 
     def watch():
         while os.getppid() == parent:
@@ -158,8 +160,10 @@ def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: i
         if workers == 1:
             planned = map(plan_sample, jobs)
         else:
+            # (spawned, on every platform: a worker's parent is then this process, which it
+            # watches; with the forkserver, Python 3.14's default on Linux, it would be the server)
             pool = stack.enter_context(ProcessPoolExecutor(max_workers=workers, initializer=_worker_init,
-                                                           initargs=(os.getpid(),)))
+                                                           mp_context=multiprocessing.get_context("spawn")))
             # (map yields in the sample order; closed first on a stop, it cancels the samples not begun)
             planned = stack.enter_context(contextlib.closing(pool.map(plan_sample, jobs)))
         # a sample's files, then its index line: the files of every listed sample are whole,
