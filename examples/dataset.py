@@ -166,8 +166,8 @@ def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: i
                                                            mp_context=multiprocessing.get_context("spawn")))
             # (map yields in the sample order; closed first on a stop, it cancels the samples not begun)
             planned = stack.enter_context(contextlib.closing(pool.map(plan_sample, jobs)))
-        # a sample's files, then its index line: the files of every listed sample are whole,
-        # and a stopped run leaves at most the last sample's files unlisted
+        # a sample's files, then its index line, a stop waiting for both (_Stop): the files of
+        # every listed sample are whole (only a SIGKILL between the two leaves files unlisted)
         for record, files in planned:
             with _STOP.held():
                 if files is not None:
