@@ -1787,16 +1787,23 @@ def _wedged_goal_projection(req: _Request, goal: np.ndarray) -> np.ndarray | Non
 class _OMPLRun:
     """One OMPL planner on one request, set up once: :meth:`solve` may be called again (with a
     new budget) and goes on with the planner's trees. :meth:`release` frees the OMPL objects
-    (nanobind reports those still alive at exit)."""
+    (nanobind reports those still alive at exit).
+
+    ``from_goal``: the planner grows from the (one) goal towards the start; :meth:`solve` still
+    returns the path from the start."""
 
     def __init__(self, req: _Request, x_start: np.ndarray, goals: list[np.ndarray], cls_name: str, seed: int,
-                 planner_range: float, projection: np.ndarray | None = None, goal_bias: float | None = None):
+                 planner_range: float, projection: np.ndarray | None = None, goal_bias: float | None = None,
+                 from_goal: bool = False):
         self.req = req
         self.cls_name = cls_name
         k = req.group.variable_count
         self._k = range(k)
         if cls_name in _THREADED:
             goals = goals[:1]
+        self._from_goal = from_goal
+        if from_goal:
+            x_start, goals = goals[0], [x_start]
         self._start, self._goals = np.asarray(x_start, dtype=float), np.asarray(goals, dtype=float)
         with _quiet_ompl():
             ou.RNG.setSeed(_ompl_seed(seed))  # before any OMPL object draws its own seed
@@ -1955,7 +1962,7 @@ class _OMPLRun:
             # the result (see OMPLPipeline._finalize)
             if self._partial is None and not checker.path_ok(path):
                 return None, f"PLANNING_FAILED: {cls_name} returned a path that fails validation", False
-            return path, "", False
+            return (path[::-1].copy() if self._from_goal else path), "", False
         timed_out = f"TIMED_OUT: no solution found in {req.deadline - req.t0:.3g} s ({cls_name})"
         if time.perf_counter() >= req.deadline:
             return None, timed_out, False
@@ -2008,7 +2015,6 @@ class _TurnSearch:
         self._limit = None if max_checks is None else self._start_checks + max_checks
         self._seed = seed
         self._runs: list[_OMPLRun] = []
-        self._from_goal = False  # the fallback plans from the goal to the start (see _fallback_run)
         self._cls_name = cls_name
         self.turn = 0
 
@@ -2036,8 +2042,6 @@ class _TurnSearch:
         name = run.cls_name
         partial = turn % 2 == 1 and turn // 2 >= FALLBACK_PARTIAL_TURN
         path, message, cut = run.solve(self._share, budget, partial, halt)
-        if path is not None and turn % 2 and self._from_goal:
-            path = path[::-1].copy()  # (planned from the goal to the start)
         if not cut:
             if turn > 0 and message:
                 message = message.replace(f"({name})", f"({cls_name}, {self._fallback_name()})")
@@ -2057,12 +2061,11 @@ class _TurnSearch:
         :data:`TRAPPED_PLANNER` growing one tree from the goal towards the start."""
         req, seed = self.req, self._seed + 104729
         n_start, n_goal = self._runs[0].tree_sizes()
-        self._from_goal = len(self._goals) == 1 and n_start >= max(TRAPPED_MIN_START, n_goal * TRAPPED_RATIO)
-        if not self._from_goal:
-            return _OMPLRun(req, self._x_start, self._goals, FALLBACK_PLANNER, seed, self._range,
-                            _wedged_goal_projection(req, self._goals[0]))
-        return _OMPLRun(req, self._goals[0], [self._x_start], TRAPPED_PLANNER, seed, self._range,
-                        goal_bias=TRAPPED_GOAL_BIAS)
+        if len(self._goals) == 1 and n_start >= max(TRAPPED_MIN_START, n_goal * TRAPPED_RATIO):
+            return _OMPLRun(req, self._x_start, self._goals, TRAPPED_PLANNER, seed, self._range,
+                            goal_bias=TRAPPED_GOAL_BIAS, from_goal=True)
+        return _OMPLRun(req, self._x_start, self._goals, FALLBACK_PLANNER, seed, self._range,
+                        _wedged_goal_projection(req, self._goals[0]))
 
     def release(self) -> None:
         for run in self._runs:
