@@ -81,10 +81,10 @@ def sample_task(sample: dict, timeout: float = 60.0):
     return task
 
 
-def plan_sample(job: tuple[dict, str, int, float]) -> tuple[dict, tuple | None]:
+def plan_sample(job: tuple[dict, int, float]) -> tuple[dict, tuple | None]:
     """Plan one sample: its ``index.jsonl`` record, and the contents of its files (the best
     solution's JSON text and arrays; None if not solved), which the main process writes."""
-    sample, _out, max_solutions, timeout = job
+    sample, max_solutions, timeout = job
     task = sample_task(sample, timeout)
     start = time.perf_counter()
     with contextlib.redirect_stdout(io.StringIO()):  # (a failed plan prints its tree, as MTC's)
@@ -153,7 +153,7 @@ def make_dataset(out: str | os.PathLike, samples: int, workers: int = 1, seed: i
         raise FileExistsError(f"{out} holds a dataset already (index.jsonl or sample files, maybe of a stopped run): "
                               "choose another folder or remove it")
     folder.mkdir(parents=True, exist_ok=True)
-    jobs = [(draw_sample(seed, i), str(out), max_solutions, timeout) for i in range(samples)]
+    jobs = [(draw_sample(seed, i), max_solutions, timeout) for i in range(samples)]
     records = []
     workers = min(workers, max(1, samples))
     with open(folder / "index.jsonl", "w") as index, contextlib.ExitStack() as stack:

@@ -216,8 +216,7 @@ class PathValidity:
 
     def collision_detail(self, q: np.ndarray) -> str:
         """``"a - b, c - d"`` for the colliding pairs of ``q`` (for failure messages)."""
-        state = RobotState(self.scene.robot_model, q)
-        pairs = self.scene.get_collisions(state, self.group)
+        pairs = self.scene.get_collisions(self._state(q), self.group)
         return ", ".join(f"{a} - {b}" for a, b in pairs)
 
     def constraint_detail(self, q: np.ndarray) -> str:
