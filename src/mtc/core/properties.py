@@ -417,11 +417,7 @@ class Property:
         holds as a manual value, in place: one copy per call where ``set`` would copy the
         whole list (a stage's ``addPose`` called for many poses)."""
         if self._initialized_from == _SET_VALUE and isinstance(self._value, list):
-            try:
-                checked = self._check([item])
-            except (TypeError, ValueError) as e:  # (named as the item it would have become)
-                raise type(e)(str(e).replace("[0]", f"[{len(self._value)}]", 1)) from None
-            self._value.extend(checked)
+            self._value.extend(self._check([item]))
         else:
             self._setValue([*(self.value() or []), item])
 

@@ -808,8 +808,8 @@ class Generator(ComputeBase):
 
 def _note_stage(e: BaseException, stage: Stage) -> None:
     """Name the stage whose code raised ``e`` (a note below the message), unless a stage
-    nearer to the error has named itself already."""
-    if not any(n.startswith("in stage '") for n in getattr(e, "__notes__", ())):
+    nearer to the error has named itself already. (Python 3.10 has no notes: nothing then.)"""
+    if hasattr(e, "add_note") and not any(n.startswith("in stage '") for n in getattr(e, "__notes__", ())):
         e.add_note(f"in stage '{stage._name}'")
 
 

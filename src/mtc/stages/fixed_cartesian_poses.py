@@ -20,15 +20,20 @@ __all__ = ["FixedCartesianPoses"]
 log = logging.getLogger(__name__)
 
 
+def _check_pose(pose, i: int) -> None:
+    """``pose`` fit to be ``poses[i]``."""
+    if not isinstance(pose, msgs.PoseStamped):
+        raise TypeError(f"poses[{i}] must be a msgs.PoseStamped, got {type(pose).__name__}")
+    msgs.validate(pose, f"poses[{i}]")  # (a NaN pose is refused here, not when planning)
+
+
 def _check_poses(value):
     try:
         poses = list(value)
     except TypeError:
         raise TypeError(f"poses must be a list of msgs.PoseStamped, got {type(value).__name__}") from None
     for i, pose in enumerate(poses):
-        if not isinstance(pose, msgs.PoseStamped):
-            raise TypeError(f"poses[{i}] must be a msgs.PoseStamped, got {type(pose).__name__}")
-        msgs.validate(pose, f"poses[{i}]")  # (a NaN pose is refused here, not when planning)
+        _check_pose(pose, i)
     return poses  # (the property keeps a copy)
 
 
@@ -52,7 +57,9 @@ class FixedCartesianPoses(MonitoringGenerator):
 
     def addPose(self, pose: msgs.PoseStamped) -> None:
         """Append a pose to ``poses``."""
-        self.properties.property("poses")._append(pose)
+        poses = self.properties.property("poses")
+        _check_pose(pose, len(poses.value() or ()))  # (named as the item it would become)
+        poses._append(pose)
 
     def reset(self) -> None:
         super().reset()
