@@ -15,7 +15,7 @@ from mtc import msgs
 __all__ = ["AllowedCollisionMatrix", "name_list"]
 
 
-def name_list(names, what: str, none: bool = False) -> list[str]:
+def name_list(names, what: str, none: bool = True) -> list[str]:
     """Names given as one name or a list of them (or, with ``none``, None for no names), as a
     list.
 
@@ -83,14 +83,14 @@ class AllowedCollisionMatrix:
         if allowed is None and (msgs.is_bool(second) or msgs.is_number(second)):
             second, allowed = None, second
         allowed = msgs.flag(allowed, "allowed")  # (a number reads as a bool, as pybind11's caster reads it)
-        firsts = name_list(first, "first")
+        firsts = name_list(first, "first", none=False)
         if second is None:
             for name in firsts:
                 for key in [k for k in self._entries if name in k]:
                     self._entries[key] = allowed
         else:
             for a in firsts:
-                for b in name_list(second, "second"):
+                for b in name_list(second, "second", none=False):
                     self._entries[frozenset((a, b))] = allowed
         self._changed()
 

@@ -237,7 +237,7 @@ class PlanningSceneInterface:
         self._attach(link, obj, touch_links)
 
     def _attach(self, link: str, obj: msgs.CollisionObject, touch_links) -> None:
-        touch = name_list(touch_links, "touch_links", none=True)
+        touch = name_list(touch_links, "touch_links")
         self.attach_object(msgs.AttachedCollisionObject(link_name=link, object=obj, touch_links=touch or [link]))
 
     def remove_attached_object(self, link: str | None = None, name: str | None = None) -> None:
@@ -256,19 +256,19 @@ class PlanningSceneInterface:
     def get_objects(self, object_ids: Iterable[str] = ()) -> dict[str, msgs.CollisionObject]:
         """World objects as messages (all, or those named; ``names=`` as api.md writes it)."""
         scene = self.scene
-        names = name_list(object_ids, "object_ids", none=True) or scene.world_object_names
+        names = name_list(object_ids, "object_ids") or scene.world_object_names
         return {n: scene.get_collision_object_msg(n) for n in names if n in scene.world_object_names}
 
     @moveit_py_keywords(names="object_ids")
     def get_attached_objects(self, object_ids: Iterable[str] = ()) -> dict[str, msgs.AttachedCollisionObject]:
         """Attached objects as messages (all, or those named; ``names=`` as api.md writes it)."""
         scene = self.scene
-        names = name_list(object_ids, "object_ids", none=True) or scene.attached_object_names
+        names = name_list(object_ids, "object_ids") or scene.attached_object_names
         return {n: scene.get_attached_collision_object_msg(n) for n in names if n in scene.attached_object_names}
 
     def get_object_poses(self, object_ids: Iterable[str]) -> dict[str, msgs.Pose]:
         """Poses of the named world objects (as MoveIt's; unknown and attached names are left out)."""
         scene = self.scene
         world = set(scene.world_object_names)
-        names = name_list(object_ids, "object_ids", none=True)
+        names = name_list(object_ids, "object_ids")
         return {n: msgs.matrix_to_pose(scene.get_frame_transform(n)) for n in names if n in world}

@@ -1454,7 +1454,7 @@ class PlanningScene:
         self._own_attached()[name] = attached
 
     def _touch_links(self, touch_links) -> frozenset:
-        touch = frozenset(name_list(touch_links, "touch_links", none=True))
+        touch = frozenset(name_list(touch_links, "touch_links"))
         for t in touch:
             self._model.frame_id(t)
         return touch
