@@ -185,9 +185,10 @@ class ContainerBase(Stage):
 
         Raises:
             RuntimeError: ``stage`` is None, already has a parent, or is this container or one
-                of its ancestors.
+                of its ancestors; no room is left (a wrapper holds one child).
             TypeError: ``stage`` is not a Stage, or ``before`` is not an integer.
         """
+        self._check_room(1)
         self._check_child(stage)
         pos = self._childByIndex(_index(before, "before"), True)
         self._children.insert(pos, stage)
@@ -1162,11 +1163,6 @@ class WrapperBase(ParallelContainerBase):
         super().__init__(name)
         if child is not None:
             self.insert(child)
-
-    def insert(self, stage: Stage, before: int = -1) -> None:
-        """Set the child (only one is allowed)."""
-        self._check_room(1)
-        super().insert(stage, before)
 
     def _check_room(self, count: int) -> None:
         if len(self._children) + count > 1:
