@@ -548,6 +548,14 @@ class PropertyMap:
     # --- declaration and access -------------------------------------------------------
     _INFER = object()
 
+    def _check_redeclaration(self, name: str, type) -> Property | None:
+        """The property ``name`` declared already (None if not), which a declaration of type
+        ``type`` must match, as in MTC, unless the first one was "any"."""
+        existing = self._props.get(name)
+        if existing is not None and existing._type is not None and existing._type != type:
+            raise PropertyTypeError(_type_name(type), _type_name(existing._type), name)
+        return existing
+
     def declare(self, name: str, default=None, description: str = "", type=_INFER, convert=None) -> Property:
         """Declare a property (or return the existing one of the same type).
 
@@ -566,11 +574,8 @@ class PropertyMap:
         if type is PropertyMap._INFER:
             type = None if default is None else default.__class__
         type = _normalize_type(type)
-        existing = self._props.get(name)
+        existing = self._check_redeclaration(name, type)
         if existing is not None:
-            # as MTC: a redeclaration must match the type, unless the first one was "any"
-            if existing._type is not None and existing._type != type:
-                raise PropertyTypeError(_type_name(type), _type_name(existing._type), name)
             return existing
         p = Property(type, description, None, convert)
         p._name = name
@@ -752,9 +757,7 @@ class PropertyMap:
         for name, target in pairs:  # (all are checked before the first is declared)
             _check_property_name(target)
             p = self.property(name)
-            existing = other._props.get(target)
-            if existing is not None and existing._type is not None and existing._type != p._type:
-                raise PropertyTypeError(_type_name(p._type), _type_name(existing._type), target)
+            other._check_redeclaration(target, p._type)
             exposed.append((p, target))
         for p, target in exposed:
             # as MTC: an existing declaration in other is kept as it is

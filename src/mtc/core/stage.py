@@ -630,11 +630,7 @@ class Stage(TypedPropertyAccess):
         if parent is not None:
             cost = solution._cost
             if -INF < cost < INF:
-                try:
-                    parent.onNewSolution(solution)
-                except Exception as e:  # (a wrapper's own code, e.g. a predicate, raised)
-                    _note_stage(e, parent)
-                    raise
+                _deliver(parent, solution)
 
     @staticmethod
     def _fresh(state: InterfaceState) -> InterfaceState:
@@ -813,6 +809,16 @@ def _note_stage(e: BaseException, stage: Stage) -> None:
         e.add_note(f"in stage '{stage._name}'")
 
 
+def _deliver(stage: Stage, solution) -> None:
+    """``stage.onNewSolution(solution)``; an error raised in the stage's own code (a wrapper's
+    predicate, say) names that stage."""
+    try:
+        stage.onNewSolution(solution)
+    except Exception as e:
+        _note_stage(e, stage)
+        raise
+
+
 def _tree_root(stage: Stage) -> Stage:
     """The top of the tree ``stage`` is in (itself when it has no parent)."""
     while stage._parent is not None:
@@ -867,11 +873,7 @@ class MonitoringGenerator(Generator):
                 # forward only successful solutions
                 cost = solution._cost
                 if -INF < cost < INF:
-                    try:
-                        me.onNewSolution(solution)
-                    except Exception as e:
-                        _note_stage(e, me)
-                        raise
+                    _deliver(me, solution)
 
             self._cb = self._monitored.addSolutionCallback(callback)
             self._registered = True
